@@ -1,0 +1,104 @@
+// The collisional (extended kinetic theory) and liquid closures of docs: ../shared/docs/model.md
+// §3-4, gathered behind one value-type interface. Each closure lives in its own file
+// (g0_carnahan_starling.hpp, permeability_kozeny_carman.hpp, ...) and is selected by name in the
+// case file; the selection is an enum resolved once, so hot loops do a switch, never a string
+// look-up or a virtual call.
+//
+// Conventions: SI units; ν = solid volume fraction = 1/(1+e); T = granular temperature (m²/s²);
+// pressures compression-positive.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace granflow::model {
+
+// ---- names <-> options ---------------------------------------------------------------------
+enum class RadialDistributionKind { carnahan_starling, torquato, chialvo_sundaresan };
+enum class EffectiveRestitutionKind { restitution, chialvo_sundaresan };
+enum class CorrelationLengthKind { diameter, jenkins };
+enum class MixtureViscosityKind { einstein, krieger_dougherty, boyer };
+enum class PermeabilityKind { seed_eq26, kozeny_carman, ergun };
+
+// Names as written in case files, in enum order (used for schema choices and docs).
+const std::vector<std::string>& radial_distribution_names();
+const std::vector<std::string>& effective_restitution_names();
+const std::vector<std::string>& correlation_length_names();
+const std::vector<std::string>& mixture_viscosity_names();
+const std::vector<std::string>& permeability_names();
+// Parse a name; throws std::invalid_argument listing the valid names.
+RadialDistributionKind parse_radial_distribution(std::string_view name);
+EffectiveRestitutionKind parse_effective_restitution(std::string_view name);
+CorrelationLengthKind parse_correlation_length(std::string_view name);
+MixtureViscosityKind parse_mixture_viscosity(std::string_view name);
+PermeabilityKind parse_permeability(std::string_view name);
+
+// ---- parameters ----------------------------------------------------------------------------
+struct CollisionalParameters {
+  double diameter = 1e-3;             // d, m
+  double particle_density = 2500.0;   // ρ_p, kg/m³
+  double restitution = 0.7;           // e_r, normal restitution coefficient in (0, 1]
+  double particle_friction = 0.5;     // μ_p, interparticle friction (for ε and ν_c)
+  double jamming_fraction = 0.587;    // ν_c, singularity of g0 (friction dependent)
+  RadialDistributionKind radial_distribution = RadialDistributionKind::chialvo_sundaresan;
+  EffectiveRestitutionKind effective_restitution = EffectiveRestitutionKind::chialvo_sundaresan;
+  CorrelationLengthKind correlation_length = CorrelationLengthKind::diameter;
+  double correlation_length_constant = 0.5;  // c of the Jenkins correlation length
+};
+
+struct LiquidParameters {
+  double viscosity = 1e-3;        // η0, Pa s
+  double density = 1000.0;        // ρ_L, kg/m³
+  double bulk_modulus = 2.2e9;    // K_w, Pa
+  MixtureViscosityKind mixture_viscosity = MixtureViscosityKind::boyer;
+  double maximum_packing = 0.585;  // ν_m of Krieger-Dougherty / Boyer
+  PermeabilityKind permeability = PermeabilityKind::seed_eq26;
+  double sphericity = 1.0;         // A of seed Eq. 26
+};
+
+// ---- collisional coefficients (model.md §3) -------------------------------------------------
+struct CollisionalCoefficients {
+  double nu = 0;        // ν
+  double g0 = 0;        // radial distribution at contact
+  double G = 0;         // ν g0
+  double epsilon = 0;   // effective restitution ε
+  double f1 = 0;        // p_COL = ρ_p f1 T
+  double f2 = 0;        // shear viscosity ρ_p d f2 T^½
+  double f3 = 0;        // dissipation Γ = ρ_p f3 T^{3/2} / L
+  double f4 = 0;        // conductivity ρ_p d f4 T^½
+  double J = 0;         // J(e_r, G) in f2
+};
+
+// Largest admissible ν for the chosen g0 (ν_c for the singular ones, < 1 for Carnahan-Starling).
+double maximum_solid_fraction(const CollisionalParameters& p);
+// All coefficients at ν. Precondition 0 < ν < maximum_solid_fraction(p); outside it throws
+// std::domain_error (guarded singularity).
+CollisionalCoefficients collisional_coefficients(const CollisionalParameters& p, double nu);
+
+double effective_restitution(const CollisionalParameters& p);              // ε
+double correlation_length(const CollisionalParameters& p, const CollisionalCoefficients& c,
+                          double shear_rate, double T);                    // L, m (≥ d)
+double collisional_pressure(const CollisionalParameters& p, const CollisionalCoefficients& c,
+                            double T);                                     // ρ_p f1 T, Pa
+double collisional_viscosity(const CollisionalParameters& p, const CollisionalCoefficients& c,
+                             double T);                                    // ρ_p d f2 T^½, Pa s
+double collisional_dissipation(const CollisionalParameters& p, const CollisionalCoefficients& c,
+                               double T, double L);                        // Γ, W/m³
+double collisional_conductivity(const CollisionalParameters& p, const CollisionalCoefficients& c,
+                                double T);                                 // ρ_p d f4 T^½, kg/(m s)
+
+// ---- liquid (model.md §4) ---------------------------------------------------------------------
+double mixture_viscosity(const LiquidParameters& l, double nu);            // η(ν), Pa s
+double permeability(const LiquidParameters& l, double diameter, double nu);  // κ, m²
+// Drag coefficient β of F = -β (u_L - u_G) per unit mixture volume (seed Eq. 25): η0 n / κ.
+double drag_coefficient(const LiquidParameters& l, double diameter, double nu);  // kg/(m³ s)
+// Per-particle drag coefficient of the same correlation (DEM): f_p = c_p (u_f - v_p),
+// c_p = β π d³ / (6 ν); tends to 3π η0 d for seed_eq26 as ν -> 0.
+double particle_drag_coefficient(const LiquidParameters& l, double diameter, double nu);
+double dissipation_resistance(double nu, double g0);                       // R_diss(ν)
+// Λ = 54 ν η0 R_diss T / d² (Koch & Sangani 1999), W/m³.
+double liquid_fluctuation_dissipation(const LiquidParameters& l, double diameter, double nu,
+                                      double g0, double T);
+
+}  // namespace granflow::model

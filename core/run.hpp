@@ -1,0 +1,103 @@
+// What every run has: its directory (never overwritten silently), log, result.h5, summary.json,
+// progress reporting, cost accounting, and the numerical-failure stop.
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include <spdlog/logger.h>
+
+#include "core/case.hpp"
+#include "core/result_file.hpp"
+
+namespace granflow::core {
+
+// Exit codes of the CLI.
+enum ExitCode : int { exit_ok = 0, exit_failure = 1, exit_bad_input = 2, exit_numerical = 3,
+                      exit_external = 4 };
+
+// A numerical failure stops the run with a message naming the step, the point and the variable;
+// whatever the run wrote before stays on disk.
+class NumericalFailure : public std::runtime_error {
+ public:
+  NumericalFailure(long step, std::string point, std::string variable, double value,
+                   std::string why);
+  long step;
+  std::string point, variable;
+  double value;
+};
+
+// Throws NumericalFailure if `value` is NaN/Inf (or negative when `non_negative`).
+void check_finite(double value, long step, const std::string& point, const std::string& variable,
+                  bool non_negative = false);
+
+// A run directory: default runs/<case-name>/. Existing directories are refused unless `force`.
+class RunDirectory {
+ public:
+  RunDirectory(const std::filesystem::path& dir, bool force);
+  const std::filesystem::path& path() const { return dir_; }
+  std::filesystem::path operator/(const std::string& file) const { return dir_ / file; }
+
+ private:
+  std::filesystem::path dir_;
+};
+
+// summary.json: flat "name": number map, written sorted by key. NaN/Inf are written as null.
+class Summary {
+ public:
+  void set(const std::string& key, double value) { values_[key] = value; }
+  bool contains(const std::string& key) const { return values_.count(key) != 0; }
+  double get(const std::string& key) const { return values_.at(key); }
+  const std::map<std::string, double>& values() const { return values_; }
+  void write(const std::filesystem::path& file) const;
+  static Summary read(const std::filesystem::path& file);
+
+ private:
+  std::map<std::string, double> values_;
+};
+
+// Progress with ETA for long loops: logs at most every `interval` seconds.
+class Progress {
+ public:
+  Progress(std::shared_ptr<spdlog::logger> log, std::string label, double total,
+           double interval_s = 5.0);
+  void update(double done);  // cheap when nothing is printed
+  void finish();
+
+ private:
+  std::shared_ptr<spdlog::logger> log_;
+  std::string label_;
+  double total_;
+  double interval_;
+  std::chrono::steady_clock::time_point start_, last_;
+};
+
+// Everything a kind's run function gets. Created by the CLI.
+struct RunContext {
+  RunContext(const Case& run_case, const std::filesystem::path& dir, bool force, bool quiet);
+  ~RunContext();
+
+  const Case& run_case;
+  RunDirectory directory;
+  std::shared_ptr<spdlog::logger> log;  // log.txt + stderr
+  ResultFile result;                     // result.h5
+  Summary summary;                       // summary.json (written by finish())
+  std::chrono::steady_clock::time_point started;
+
+  double wall_seconds() const;
+  // Run a plot script analysis/plots/<script> on this run directory (python3 + matplotlib).
+  // A missing matplotlib is a logged warning, not a failed run.
+  void plot(const std::string& script);
+  // Write summary.json (adds cost.wall_s) and flush result.h5. Called on success and on failure.
+  void finish();
+};
+
+// The source tree (for plot scripts), set at build time, overridable by GRANFLOW_HOME.
+std::filesystem::path source_dir();
+
+}  // namespace granflow::core
