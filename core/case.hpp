@@ -54,10 +54,6 @@ class Case {
 
   // A case with `sweep:` expands into one case per condition (Cartesian product of the listed
   // key paths, first key varying slowest). A case without sweep returns itself (one entry).
-  struct Condition {
-    std::vector<std::pair<std::string, double>> values;  // key path -> value of this condition
-    Case const* parent = nullptr;
-  };
   bool is_sweep() const { return !sweep_keys_.empty(); }
   std::vector<Case> expand_sweep() const;
   const std::vector<std::string>& sweep_keys() const { return sweep_keys_; }
@@ -66,8 +62,6 @@ class Case {
 
  private:
   Case() = default;
-  void validate();
-  const YAML::Node* find(std::string_view path) const;
 
   YAML::Node root_;      // validated tree with defaults filled in
   std::string origin_;   // file name for messages

@@ -1,0 +1,25 @@
+#include "app/registry.hpp"
+
+#include "continuum/rev/rev_kind.hpp"
+#ifdef GRANFLOW_HAVE_MPM_KIND
+#include "continuum/mpm/mpm_kind.hpp"
+#endif
+#ifdef GRANFLOW_HAVE_DEM_KIND
+#include "dem_coupling/dem_kind.hpp"
+#endif
+
+namespace granflow::app {
+
+core::KindRegistry make_registry() {
+  core::KindRegistry registry;
+  rev::register_rev_kinds(registry);
+#ifdef GRANFLOW_HAVE_MPM_KIND
+  mpm::register_mpm_kinds(registry);
+#endif
+#ifdef GRANFLOW_HAVE_DEM_KIND
+  dem::register_dem_kinds(registry);
+#endif
+  return registry;
+}
+
+}  // namespace granflow::app

@@ -1,0 +1,20 @@
+// Case-file sections shared by every kind that runs the continuum model (rev, mpm, pair,
+// calibrate): `material` (grain properties; the DEM reads the same keys), `collisional`,
+// `liquid`. One description of the material, so DEM and continuum cannot drift apart.
+#pragma once
+
+#include "core/case.hpp"
+#include "core/schema.hpp"
+#include "continuum/multi_regime/multi_regime_point.hpp"
+
+namespace granflow::continuum {
+
+core::Field material_section();
+core::Field collisional_section();
+core::Field liquid_section();
+
+// Read the three sections of a validated case into the point settings. Throws CaseError
+// (located at the key) for combinations the schema cannot express.
+MultiRegimeSettings read_multi_regime_settings(const core::Case& c);
+
+}  // namespace granflow::continuum

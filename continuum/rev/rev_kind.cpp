@@ -1,0 +1,262 @@
+#include "continuum/rev/rev_kind.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "continuum/multi_regime/model_sections.hpp"
+#include "continuum/rev/simple_shear.hpp"
+
+namespace granflow::rev {
+
+core::Schema simple_shear_schema() {
+  core::Schema s = core::kind_header(
+      "rev", "simple_shear",
+      "Homogeneous simple shear of one material point at imposed shear rate, at constant volume "
+      "or constant normal stress, integrated to steady state (model.md §3-5).");
+  s.add(continuum::material_section());
+  s.add(continuum::collisional_section());
+  s.add(continuum::liquid_section());
+  auto& loading = s.section("loading", "imposed shear and volume/normal-stress control");
+  loading.choice("control", {"constant_volume", "constant_pressure"},
+                 "constant_volume: e imposed; constant_pressure: p on the grains imposed, e evolves")
+      .required();
+  loading.number("shear_rate", "1/s", "imposed shear rate γ̇").required().greater_than(0).sweepable();
+  loading.number("void_ratio", "", "imposed void ratio e (constant_volume) or initial e")
+      .greater_than(0).sweepable();
+  loading.number("normal_stress", "Pa", "imposed normal stress p on the grains (constant_pressure)")
+      .greater_than(0).sweepable();
+  auto& initial = s.section("initial", "initial state");
+  initial.number("granular_temperature", "m^2/s^2", "T at t = 0").default_value("1.0e-6").at_least(0);
+  auto& integration = s.section("integration", "accuracy controls of the time integration");
+  integration.number("time_step_factor", "", "Δt = factor × min(1/γ̇, relaxation time of T)")
+      .default_value("0.5").greater_than(0);
+  integration.number("steady_tolerance", "", "steady when T and ν change less than this per unit strain")
+      .default_value("1.0e-10").greater_than(0);
+  integration.number("max_strain", "", "give up (not steady) beyond this shear strain")
+      .default_value("1.0e4").greater_than(0);
+  integration.integer("max_steps", "give up beyond this number of steps").default_value("1000000")
+      .greater_than(0);
+  return s;
+}
+
+namespace {
+
+void check_simple_shear(const core::Case& c) {
+  const auto settings = continuum::read_multi_regime_settings(c);
+  const std::string control = c.string("loading.control");
+  if (control == "constant_volume") {
+    if (!c.has("loading.void_ratio"))
+      c.fail("loading.void_ratio", "missing required key for constant_volume; expected a void ratio > 0");
+    const double nu = 1.0 / (1.0 + c.number("loading.void_ratio"));
+    if (settings.collisional &&
+        nu >= model::maximum_solid_fraction(settings.collisional_parameters))
+      c.fail("loading.void_ratio",
+             fmt::format("solid fraction 1/(1+e) = {:.6g} is at or beyond the jamming fraction {:.6g}; "
+                         "expected e > {:.6g}",
+                         nu, model::maximum_solid_fraction(settings.collisional_parameters),
+                         1.0 / model::maximum_solid_fraction(settings.collisional_parameters) - 1.0));
+    if (settings.liquid && nu >= settings.liquid_parameters.maximum_packing &&
+        settings.liquid_parameters.mixture_viscosity != model::MixtureViscosityKind::einstein)
+      c.fail("loading.void_ratio",
+             fmt::format("solid fraction {:.6g} is at or beyond liquid.maximum_packing {:.6g} where "
+                         "η(ν) diverges", nu, settings.liquid_parameters.maximum_packing));
+  } else {
+    if (!c.has("loading.normal_stress"))
+      c.fail("loading.normal_stress", "missing required key for constant_pressure; expected p > 0 [Pa]");
+    if (!settings.collisional)
+      c.fail("collisional.enabled", "constant_pressure needs the collisional term (it carries p)");
+    // Dry kinetic theory has a dense steady state only below I_max (with liquid, Λ lowers T and
+    // the bound moves, so it is then detected at run time instead).
+    if (!settings.liquid &&
+        settings.collisional_parameters.correlation_length == model::CorrelationLengthKind::diameter) {
+      const auto bound = maximum_steady_inertial_number(settings.collisional_parameters);
+      const double I = c.number("loading.shear_rate") * settings.collisional_parameters.diameter /
+                       std::sqrt(c.number("loading.normal_stress") /
+                                 settings.collisional_parameters.particle_density);
+      if (I >= bound.inertial_number)
+        c.fail("loading.shear_rate",
+               fmt::format("inertial number I = γ̇ d / sqrt(p/ρ_p) = {:.4g} has no steady dense state "
+                           "in kinetic theory with L = d; expected I < I_max = {:.4g} (reached at "
+                           "ν = {:.4g}), i.e. γ̇ < {:.4g} 1/s",
+                           I, bound.inertial_number, bound.solid_fraction,
+                           c.number("loading.shear_rate") * bound.inertial_number / I));
+    }
+    // Under constant p the grains may compact up to the jamming fraction: η(ν) must stay finite.
+    if (settings.liquid &&
+        settings.liquid_parameters.mixture_viscosity != model::MixtureViscosityKind::einstein &&
+        settings.liquid_parameters.maximum_packing <=
+            model::maximum_solid_fraction(settings.collisional_parameters))
+      c.fail("liquid.maximum_packing",
+             fmt::format("η(ν) diverges at ν_m = {:g}, below the jamming fraction {:g} the "
+                         "grains can reach under constant pressure; expected ν_m > "
+                         "collisional.jamming_fraction",
+                         settings.liquid_parameters.maximum_packing,
+                         model::maximum_solid_fraction(settings.collisional_parameters)));
+  }
+}
+
+SimpleShearControl read_control(const core::Case& c) {
+  SimpleShearControl control;
+  control.control = c.string("loading.control") == "constant_volume" ? ShearControl::constant_volume
+                                                                      : ShearControl::constant_pressure;
+  control.shear_rate = c.number("loading.shear_rate");
+  if (c.has("loading.void_ratio")) control.void_ratio = c.number("loading.void_ratio");
+  if (c.has("loading.normal_stress")) control.normal_stress = c.number("loading.normal_stress");
+  control.initial_temperature = c.number("initial.granular_temperature");
+  control.time_step_factor = c.number("integration.time_step_factor");
+  control.steady_tolerance = c.number("integration.steady_tolerance");
+  control.max_strain = c.number("integration.max_strain");
+  control.max_steps = c.integer("integration.max_steps");
+  return control;
+}
+
+void write_series(core::ResultFile& out, const std::string& group, const SimpleShearSeries& s) {
+  out.write(group + "/time", s.time, "s", "time");
+  out.write(group + "/strain", s.strain, "1", "shear strain γ");
+  out.write(group + "/time_step", s.time_step, "s", "time step Δt");
+  out.write(group + "/granular_temperature", s.granular_temperature, "m^2/s^2", "granular temperature T");
+  out.write(group + "/void_ratio", s.void_ratio, "1", "void ratio e");
+  out.write(group + "/solid_fraction", s.solid_fraction, "1", "solid fraction ν");
+  out.write(group + "/pressure", s.pressure, "Pa", "normal stress on the grains p (p_COL)");
+  out.write(group + "/shear_stress", s.shear_stress, "Pa", "shear stress τ = τ_COL + τ_L");
+  out.write(group + "/collisional_shear_stress", s.collisional_shear_stress, "Pa", "τ_COL");
+  out.write(group + "/liquid_shear_stress", s.liquid_shear_stress, "Pa", "τ_L = η(ν) γ̇");
+  out.write(group + "/friction", s.friction, "1", "stress ratio μ = τ/p");
+  out.write(group + "/inertial_number", s.inertial_number, "1", "I = γ̇ d / sqrt(p/ρ_p)");
+}
+
+int run_simple_shear_case(core::RunContext& ctx) {
+  const auto conditions = ctx.run_case.expand_sweep();
+  const bool sweep = ctx.run_case.is_sweep();
+  struct Row { double shear_rate, e, phi, T, p, tau, tau_col, tau_liq, mu, I, J, K, strain, reached, steps; };
+  std::vector<Row> rows;
+  long total_steps = 0;
+  double min_dt = INFINITY, max_dt = 0, max_explicit_ratio = 0;
+  core::Progress progress(ctx.log, "conditions", static_cast<double>(conditions.size()));
+
+  for (std::size_t n = 0; n < conditions.size(); ++n) {
+    const core::Case& c = conditions[n];
+    const auto settings = continuum::read_multi_regime_settings(c);
+    const continuum::MultiRegimePoint point(settings);
+    const SimpleShearControl control = read_control(c);
+    std::string label = sweep ? fmt::format("condition {}", n) : std::string("simple shear");
+    for (const auto& [key, value] : c.condition()) label += fmt::format(" {}={:g}", key, value);
+    ctx.log->info("{}: {} at γ̇ = {:g} 1/s", label, c.string("loading.control"), control.shear_rate);
+    core::Progress strain_progress(ctx.log, label + " strain", control.max_strain);
+    SimpleShearResult r;
+    const std::string group = sweep ? fmt::format("/conditions/{}", n) : std::string("/series");
+    try {
+      run_simple_shear(point, control, r, [&](double strain) { strain_progress.update(strain); });
+    } catch (const core::NumericalFailure&) {
+      write_series(ctx.result, sweep ? group + "/series" : group, r.series);  // keep what ran
+      throw;
+    }
+    write_series(ctx.result, sweep ? group + "/series" : group, r.series);
+    if (sweep)
+      for (const auto& [key, value] : c.condition()) ctx.result.attribute(group, key, value);
+    ctx.result.flush();
+    const auto& s = r.steady;
+    if (!s.reached)
+      ctx.log->warn("{}: no steady state within strain {:g} / {} steps; the last state is reported",
+                    label, s.strain, r.steps);
+    const double alpha = c.number("liquid.trulsson_alpha");
+    const double K = s.viscous_number + alpha * s.inertial_number * s.inertial_number;
+    rows.push_back({control.shear_rate, s.void_ratio, s.solid_fraction, s.granular_temperature,
+                    s.pressure, s.shear_stress, s.collisional_shear_stress, s.liquid_shear_stress,
+                    s.friction, s.inertial_number, s.viscous_number, K, s.strain,
+                    s.reached ? 1.0 : 0.0, static_cast<double>(r.steps)});
+    ctx.log->info("{}: steady after strain {:.4g} ({} steps): e = {:.6g}, T = {:.6g} m²/s², "
+                  "p = {:.6g} Pa, τ = {:.6g} Pa, μ = {:.6g}, I = {:.6g}{}",
+                  label, s.strain, r.steps, s.void_ratio, s.granular_temperature, s.pressure,
+                  s.shear_stress, s.friction, s.inertial_number,
+                  settings.liquid ? fmt::format(", J = {:.6g}", s.viscous_number) : "");
+    const std::string suffix = sweep ? fmt::format(".{}", n) : "";
+    auto& sum = ctx.summary;
+    sum.set("steady.mu" + suffix, s.friction);
+    sum.set("steady.e" + suffix, s.void_ratio);
+    sum.set("steady.phi" + suffix, s.solid_fraction);
+    sum.set("steady.T" + suffix, s.granular_temperature);
+    sum.set("steady.p" + suffix, s.pressure);
+    sum.set("steady.tau" + suffix, s.shear_stress);
+    sum.set("steady.I" + suffix, s.inertial_number);
+    sum.set("steady.start_strain" + suffix, s.strain);
+    sum.set("steady.reached" + suffix, s.reached ? 1 : 0);
+    if (settings.liquid) {
+      sum.set("steady.J" + suffix, s.viscous_number);
+      sum.set("steady.K" + suffix, K);
+    }
+    // The closed form of model.md §3 (no liquid, L = d): T = (f2/f3) d² γ̇², μ = sqrt(f2 f3)/f1.
+    if (settings.collisional && !settings.liquid &&
+        settings.collisional_parameters.correlation_length == model::CorrelationLengthKind::diameter) {
+      const auto& p = settings.collisional_parameters;
+      const auto k = model::collisional_coefficients(p, s.solid_fraction);
+      const double T_closed = k.f2 / k.f3 * p.diameter * p.diameter * control.shear_rate * control.shear_rate;
+      sum.set("closed_form.T" + suffix, T_closed);
+      sum.set("closed_form.mu" + suffix, std::sqrt(k.f2 * k.f3) / k.f1);
+      sum.set("closed_form.I" + suffix, 1.0 / std::sqrt(k.f1 * k.f2 / k.f3));
+      sum.set("closed_form.T_rel_err" + suffix, std::abs(s.granular_temperature / T_closed - 1.0));
+    }
+    total_steps += r.steps;
+    min_dt = std::min(min_dt, r.min_time_step);
+    max_dt = std::max(max_dt, r.max_time_step);
+    max_explicit_ratio = std::max(max_explicit_ratio, r.max_explicit_ratio);
+    progress.update(static_cast<double>(n + 1));
+  }
+
+  // Steady table (one row per condition).
+  auto column = [&](auto member) {
+    std::vector<double> v;
+    for (const auto& row : rows) v.push_back(row.*member);
+    return v;
+  };
+  auto& out = ctx.result;
+  out.write("/steady/shear_rate", column(&Row::shear_rate), "1/s", "imposed shear rate γ̇");
+  out.write("/steady/void_ratio", column(&Row::e), "1", "steady void ratio e");
+  out.write("/steady/solid_fraction", column(&Row::phi), "1", "steady solid fraction ν");
+  out.write("/steady/granular_temperature", column(&Row::T), "m^2/s^2", "steady T");
+  out.write("/steady/pressure", column(&Row::p), "Pa", "steady normal stress on the grains p");
+  out.write("/steady/shear_stress", column(&Row::tau), "Pa", "steady shear stress τ");
+  out.write("/steady/collisional_shear_stress", column(&Row::tau_col), "Pa", "τ_COL");
+  out.write("/steady/liquid_shear_stress", column(&Row::tau_liq), "Pa", "τ_L");
+  out.write("/steady/friction", column(&Row::mu), "1", "μ = τ/p");
+  out.write("/steady/inertial_number", column(&Row::I), "1", "I = γ̇ d / sqrt(p/ρ_p)");
+  out.write("/steady/viscous_number", column(&Row::J), "1", "J = η0 γ̇ / p (0 when dry)");
+  out.write("/steady/unified_number", column(&Row::K), "1", "K = J + α I²");
+  out.write("/steady/steady_strain", column(&Row::strain), "1", "strain at steady state");
+  out.write("/steady/reached", column(&Row::reached), "1", "1 if a steady state was detected");
+  const auto& c0 = ctx.run_case;
+  out.attribute("/steady", "diameter", c0.number("material.diameter"));
+  out.attribute("/steady", "particle_density", c0.number("material.particle_density"));
+  out.attribute("/steady", "liquid_enabled", c0.boolean("liquid.enabled") ? 1.0 : 0.0);
+  out.attribute("/steady", "liquid_viscosity", c0.number("liquid.viscosity"));
+
+  const double wall = ctx.wall_seconds();
+  ctx.summary.set("cost.steps", static_cast<double>(total_steps));
+  ctx.summary.set("cost.updates_per_s", total_steps / std::max(wall, 1e-9));
+  ctx.summary.set("accuracy.time_step_min", min_dt);
+  ctx.summary.set("accuracy.time_step_max", max_dt);
+  ctx.summary.set("accuracy.time_step_factor", c0.number("integration.time_step_factor"));
+  ctx.summary.set("accuracy.steady_tolerance", c0.number("integration.steady_tolerance"));
+  ctx.summary.set("accuracy.max_dt_over_explicit_limit", max_explicit_ratio);
+  if (sweep) ctx.summary.set("sweep.count", static_cast<double>(conditions.size()));
+  ctx.log->info("cost: {} steps in {:.3f} s ({:.3g} point updates/s); accuracy: Δt in [{:.3g}, {:.3g}] s "
+                "(factor {:g}, up to {:.3g}× the explicit Euler limit of the T equation), steady "
+                "tolerance {:g} per unit strain",
+                total_steps, wall, total_steps / std::max(wall, 1e-9), min_dt, max_dt,
+                c0.number("integration.time_step_factor"), max_explicit_ratio,
+                c0.number("integration.steady_tolerance"));
+  ctx.plot("plot_rev.py");
+  return core::exit_ok;
+}
+
+}  // namespace
+
+void register_rev_kinds(core::KindRegistry& registry) {
+  registry.add({"rev", "simple_shear",
+                "steady homogeneous simple shear of a material point (collisional + liquid)",
+                simple_shear_schema(), check_simple_shear, run_simple_shear_case,
+                "cases/rev/simple_shear_dry.yaml"});
+}
+
+}  // namespace granflow::rev

@@ -1,0 +1,187 @@
+#include "continuum/rev/simple_shear.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/run.hpp"
+
+namespace granflow::rev {
+
+namespace {
+
+Eigen::Matrix3d simple_shear_rate(double shear_rate) {
+  // compression-positive strain rate of u_x = γ̇ y: ε̇ = -sym(∇u), ε̇_xy = -γ̇/2
+  Eigen::Matrix3d rate = Eigen::Matrix3d::Zero();
+  rate(0, 1) = rate(1, 0) = -0.5 * shear_rate;
+  return rate;
+}
+
+// χ = f1² / (1.5 ν² df1/dν): the volumetric work of a constant-pressure point per unit of its
+// granular heat capacity (see run_simple_shear). df1/dν by a central difference.
+double compaction_capacity(const continuum::MultiRegimePoint& point, double nu) {
+  const auto& p = point.settings().collisional_parameters;
+  const double h = 1e-7 * nu;
+  const double nu_hi = std::min(nu + h, model::maximum_solid_fraction(p) - 1e-13);
+  const double f1 = model::collisional_coefficients(p, nu).f1;
+  const double slope = (model::collisional_coefficients(p, nu_hi).f1 -
+                        model::collisional_coefficients(p, nu - h).f1) / (nu_hi - nu + h);
+  return f1 * f1 / (1.5 * nu * nu * slope);
+}
+
+}  // namespace
+
+double solid_fraction_at_pressure(const continuum::MultiRegimePoint& point, double pressure,
+                                  double granular_temperature) {
+  const auto& p = point.settings().collisional_parameters;
+  double lo = 1e-9, hi = model::maximum_solid_fraction(p) - 1e-13;
+  const auto p_col = [&](double nu) {
+    return model::collisional_pressure(p, model::collisional_coefficients(p, nu), granular_temperature);
+  };
+  // No root in the bracket: the point cannot carry p (too cold even at jamming, or too hot
+  // even when dilute). The caller reports it.
+  if (!(p_col(hi) >= pressure) || !(p_col(lo) <= pressure)) return std::nan("");
+  // Bisection to machine precision: near jamming p_COL ∝ (ν_c - ν)^(-3/2) is steep, so stop only
+  // when the bracket can no longer shrink.
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
+    (p_col(mid) < pressure ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+SimpleShearResult run_simple_shear(const continuum::MultiRegimePoint& point,
+                                   const SimpleShearControl& control) {
+  SimpleShearResult result;
+  run_simple_shear(point, control, result);
+  return result;
+}
+
+InertialNumberBound maximum_steady_inertial_number(const model::CollisionalParameters& p) {
+  InertialNumberBound best{0, 0};
+  const double nu_max = model::maximum_solid_fraction(p);
+  for (int i = 1; i < 2000; ++i) {
+    const double nu = nu_max * i / 2000.0;
+    const auto k = model::collisional_coefficients(p, nu);
+    const double I = 1.0 / std::sqrt(k.f1 * k.f2 / k.f3);
+    if (I > best.inertial_number) best = {I, nu};
+  }
+  return best;
+}
+
+void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShearControl& control,
+                      SimpleShearResult& result, const std::function<void(double)>& progress) {
+  const auto& settings = point.settings();
+  const auto& col = settings.collisional_parameters;
+  const double d = col.diameter, rho_p = col.particle_density;
+  const double gamma_dot = control.shear_rate;
+  const Eigen::Matrix3d shear = simple_shear_rate(gamma_dot);
+
+  continuum::PointState state;
+  state.granular_temperature = control.initial_temperature;
+  state.solid_fraction = 1.0 / (1.0 + control.void_ratio);
+  const bool constant_pressure = control.control == ShearControl::constant_pressure;
+  if (constant_pressure)
+    state.solid_fraction =
+        solid_fraction_at_pressure(point, control.normal_stress, state.granular_temperature);
+
+  result = SimpleShearResult{};
+  auto& series = result.series;
+  double time = 0, strain = 0;
+  result.min_time_step = INFINITY;
+  int quiet_steps = 0;  // consecutive steps below the steady tolerance
+
+  for (long step = 1; step <= control.max_steps; ++step) {
+    const Eigen::Matrix3d& rate = shear;
+    // Constant pressure slaves ν to T through p_COL(ν, T) = ρ_p f1(ν) T = p, so dν/dT =
+    // -f1/(T f1'). The volumetric work p tr(ε̇) = p (dν/dT) Ṫ / ν then moves to the left of
+    // (3/2) ρ_p ν Ṫ = ... as an effective heat capacity (1 + χ) with χ = f1² / (1.5 ν² f1') > 0,
+    // independent of T. Treating it as an explicit source instead is unstable (period-2
+    // oscillation of T and ν with a collapsing step). Steady states are unchanged.
+    const double heat_capacity_factor =
+        constant_pressure ? 1.0 + compaction_capacity(point, state.solid_fraction) : 1.0;
+    // Time step: a fraction of the shear time 1/γ̇ and of the relaxation time of T^½.
+    const auto start = point.evaluate(state, rate);
+    continuum::RiccatiCoefficients k = start.temperature_equation;
+    k.a /= heat_capacity_factor;
+    k.b /= heat_capacity_factor;
+    k.c /= heat_capacity_factor;
+    const double s_star = settings.collisional ? continuum::steady_sqrt_temperature(k) : 0.0;
+    const double relaxation = settings.collisional && std::isfinite(s_star)
+                                  ? 1.0 / std::max(std::abs(k.c + 2 * k.b * s_star), 1e-300)
+                                  : INFINITY;
+    const double dt = control.time_step_factor * std::min(1.0 / gamma_dot, relaxation);
+    core::check_finite(dt, step, "REV point", "time_step", true);
+    const double s_now = std::sqrt(std::max(state.granular_temperature, 0.0));
+    result.max_explicit_ratio =
+        std::max(result.max_explicit_ratio, dt / continuum::explicit_step_limit(k, s_now));
+
+    const double T_old = state.granular_temperature, nu_old = state.solid_fraction;
+    auto parts = point.update(state, rate, dt, heat_capacity_factor);
+    if (constant_pressure) {
+      state.solid_fraction =
+          solid_fraction_at_pressure(point, control.normal_stress, state.granular_temperature);
+      if (std::isnan(state.solid_fraction))
+        throw core::NumericalFailure(
+            step, "REV point", "solid_fraction", state.solid_fraction,
+            fmt::format("no solid fraction in (0, ν_c) gives p_COL = {:g} Pa at T = {:g} m²/s²: "
+                        "the collisional term alone cannot carry this normal stress at this "
+                        "shear rate", control.normal_stress, state.granular_temperature));
+      parts = point.evaluate(state, rate);
+    }
+    time += dt;
+    strain += gamma_dot * dt;
+    result.min_time_step = std::min(result.min_time_step, dt);
+    result.max_time_step = std::max(result.max_time_step, dt);
+
+    const double T = state.granular_temperature, nu = state.solid_fraction;
+    core::check_finite(T, step, "REV point", "granular_temperature", true);
+    core::check_finite(nu, step, "REV point", "solid_fraction", true);
+    const double tau_col = -parts.collisional(0, 1), tau_liq = -parts.liquid(0, 1);
+    const double tau = tau_col + tau_liq;
+    const double p = parts.collisional_pressure;
+    core::check_finite(tau, step, "REV point", "shear_stress");
+    series.time.push_back(time);
+    series.strain.push_back(strain);
+    series.time_step.push_back(dt);
+    series.granular_temperature.push_back(T);
+    series.void_ratio.push_back(1.0 / nu - 1.0);
+    series.solid_fraction.push_back(nu);
+    series.pressure.push_back(p);
+    series.shear_stress.push_back(tau);
+    series.collisional_shear_stress.push_back(tau_col);
+    series.liquid_shear_stress.push_back(tau_liq);
+    series.friction.push_back(p > 0 ? tau / p : INFINITY);
+    series.inertial_number.push_back(p > 0 ? gamma_dot * d / std::sqrt(p / rho_p) : INFINITY);
+    result.steps = step;
+
+    // Steady: relative change of T and ν per unit strain below the tolerance for 5 steps.
+    const double dstrain = gamma_dot * dt;
+    const double change = std::max(std::abs(T - T_old) / std::max(T, 1e-300),
+                                   std::abs(nu - nu_old) / nu) / dstrain;
+    quiet_steps = (!settings.collisional || change < control.steady_tolerance) ? quiet_steps + 1 : 0;
+    if (progress && step % 1000 == 0) progress(strain);
+    if (quiet_steps >= 5 || strain >= control.max_strain) {
+      auto& s = result.steady;
+      s.reached = quiet_steps >= 5;
+      s.strain = strain;
+      s.solid_fraction = nu;
+      s.void_ratio = 1.0 / nu - 1.0;
+      s.granular_temperature = T;
+      s.pressure = p;
+      s.shear_stress = tau;
+      s.collisional_shear_stress = tau_col;
+      s.liquid_shear_stress = tau_liq;
+      s.friction = series.friction.back();
+      s.inertial_number = series.inertial_number.back();
+      s.viscous_number = settings.liquid && p > 0
+                             ? settings.liquid_parameters.viscosity * gamma_dot / p
+                             : 0.0;
+      break;
+    }
+  }
+}
+
+}  // namespace granflow::rev

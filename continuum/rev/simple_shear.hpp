@@ -1,0 +1,72 @@
+// Homogeneous steady simple shear of a material point (REV) at imposed shear rate γ̇, at constant
+// volume (imposed void ratio) or constant normal stress (imposed p on the granular phase; e
+// evolves). T is integrated in time from the energy balance (model.md §5) until a steady state is
+// detected. The closed forms of model.md §3 are its first check.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "continuum/multi_regime/multi_regime_point.hpp"
+
+namespace granflow::rev {
+
+enum class ShearControl { constant_volume, constant_pressure };
+
+struct SimpleShearControl {
+  ShearControl control = ShearControl::constant_volume;
+  double shear_rate = 10.0;                // γ̇, 1/s
+  double void_ratio = 0.8;                 // imposed (constant volume) or initial e
+  double normal_stress = 0.0;              // imposed p on the grains (constant pressure), Pa
+  double initial_temperature = 1e-6;       // T(0), m²/s²
+  double time_step_factor = 0.5;           // Δt = factor × min(1/γ̇, T relaxation time)
+  double steady_tolerance = 1e-10;         // relative change per unit strain of T and ν
+  double max_strain = 1e4;                 // stop (not steady) beyond this strain
+  long max_steps = 1000000;
+};
+
+struct SimpleShearSeries {
+  std::vector<double> time, strain, time_step, granular_temperature, void_ratio, solid_fraction,
+      pressure, shear_stress, collisional_shear_stress, liquid_shear_stress, friction, inertial_number;
+};
+
+struct SimpleShearSteady {
+  bool reached = false;
+  double strain = 0;       // strain at which steady state was detected
+  double void_ratio = 0, solid_fraction = 0, granular_temperature = 0;
+  double pressure = 0;     // granular normal stress p (p_COL), Pa
+  double shear_stress = 0, collisional_shear_stress = 0, liquid_shear_stress = 0;  // Pa
+  double friction = 0;     // μ = τ/p
+  double inertial_number = 0;  // I = γ̇ d / sqrt(p/ρ_p)
+  double viscous_number = 0;   // J = η0 γ̇ / p (liquid on)
+};
+
+struct SimpleShearResult {
+  SimpleShearSeries series;
+  SimpleShearSteady steady;
+  long steps = 0;
+  double min_time_step = 0, max_time_step = 0;
+  double max_explicit_ratio = 0;  // largest Δt / explicit Euler limit used
+};
+
+// Runs to steady state, filling `result` as it goes. `progress(strain)` is called now and then
+// (may be empty). Throws core::NumericalFailure naming step and variable on NaN/Inf/negative T
+// or when no state satisfies the imposed pressure; `result` then holds the series so far.
+void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShearControl& control,
+                      SimpleShearResult& result,
+                      const std::function<void(double)>& progress = {});
+SimpleShearResult run_simple_shear(const continuum::MultiRegimePoint& point,
+                                   const SimpleShearControl& control);
+
+// Largest inertial number a dry steady homogeneous shear admits with L = d,
+// I(ν) = (f1 f2 / f3)^(-1/2) maximised over ν (kinetic theory has no dense steady state beyond).
+struct InertialNumberBound {
+  double inertial_number, solid_fraction;
+};
+InertialNumberBound maximum_steady_inertial_number(const model::CollisionalParameters& p);
+
+// Solid fraction at which p_COL(ν, T) = p (bisection; p_COL increases with ν).
+double solid_fraction_at_pressure(const continuum::MultiRegimePoint& point, double pressure,
+                                  double granular_temperature);
+
+}  // namespace granflow::rev

@@ -1,0 +1,183 @@
+#include "core/run.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <spdlog/sinks/basic_file_sink.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#ifndef GRANFLOW_SOURCE_DIR
+#define GRANFLOW_SOURCE_DIR "."
+#endif
+
+namespace granflow::core {
+
+NumericalFailure::NumericalFailure(long step_, std::string point_, std::string variable_,
+                                   double value_, std::string why)
+    : std::runtime_error(fmt::format("numerical failure at step {}, {}: {} = {} ({})", step_, point_,
+                                     variable_, value_, why)),
+      step(step_),
+      point(std::move(point_)),
+      variable(std::move(variable_)),
+      value(value_) {}
+
+void check_finite(double value, long step, const std::string& point, const std::string& variable,
+                  bool non_negative) {
+  if (!std::isfinite(value)) throw NumericalFailure(step, point, variable, value, "not finite");
+  if (non_negative && value < 0) throw NumericalFailure(step, point, variable, value, "negative");
+}
+
+RunDirectory::RunDirectory(const std::filesystem::path& dir, bool force) : dir_(dir) {
+  namespace fs = std::filesystem;
+  if (fs::exists(dir_)) {
+    if (!force)
+      throw CaseError(fmt::format("{}: the run directory exists; a previous run is never overwritten "
+                                  "(choose --out DIR, or pass --force to replace it)",
+                                  dir_.string()));
+    fs::remove_all(dir_);
+  }
+  fs::create_directories(dir_);
+}
+
+void Summary::write(const std::filesystem::path& file) const {
+  std::ofstream out(file);
+  out << "{\n";
+  std::size_t i = 0;
+  for (const auto& [key, value] : values_) {
+    std::string escaped;
+    for (char ch : key) {
+      if (ch == '"' || ch == '\\') escaped += '\\';
+      escaped += ch;
+    }
+    out << "  \"" << escaped << "\": "
+        << (std::isfinite(value) ? fmt::format("{:.17g}", value) : std::string("null"))
+        << (++i < values_.size() ? ",\n" : "\n");
+  }
+  out << "}\n";
+}
+
+Summary Summary::read(const std::filesystem::path& file) {
+  // summary.json is flat {"name": number|null, ...}; this reads exactly what write() writes.
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot open", file.string()));
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string s = text.str();
+  Summary summary;
+  std::size_t pos = 0;
+  while ((pos = s.find('"', pos)) != std::string::npos) {
+    std::string key;
+    ++pos;
+    while (pos < s.size() && s[pos] != '"') {
+      if (s[pos] == '\\') ++pos;
+      key += s[pos++];
+    }
+    pos = s.find(':', pos) + 1;
+    while (pos < s.size() && std::isspace(static_cast<unsigned char>(s[pos]))) ++pos;
+    if (s.compare(pos, 4, "null") == 0) {
+      summary.set(key, std::nan(""));
+      pos += 4;
+    } else {
+      std::size_t used = 0;
+      summary.set(key, std::stod(s.substr(pos), &used));
+      pos += used;
+    }
+  }
+  return summary;
+}
+
+Progress::Progress(std::shared_ptr<spdlog::logger> log, std::string label, double total,
+                   double interval_s)
+    : log_(std::move(log)),
+      label_(std::move(label)),
+      total_(total),
+      interval_(interval_s),
+      start_(std::chrono::steady_clock::now()),
+      last_(start_) {}
+
+void Progress::update(double done) {
+  const auto now = std::chrono::steady_clock::now();
+  if (std::chrono::duration<double>(now - last_).count() < interval_) return;
+  last_ = now;
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  const double fraction = total_ > 0 ? std::min(1.0, done / total_) : 0.0;
+  const double eta = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0.0;
+  if (log_) log_->info("{}: {:5.1f} % ({:.4g} / {:.4g}), {:.1f} s elapsed, ETA {:.1f} s", label_,
+                       100 * fraction, done, total_, elapsed, eta);
+}
+
+void Progress::finish() {
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  if (log_) log_->info("{}: done in {:.2f} s", label_, elapsed);
+}
+
+std::filesystem::path source_dir() {
+  if (const char* home = std::getenv("GRANFLOW_HOME"); home && *home) return home;
+  return GRANFLOW_SOURCE_DIR;
+}
+
+static std::shared_ptr<spdlog::logger> make_logger(const std::filesystem::path& file, bool quiet) {
+  std::vector<spdlog::sink_ptr> sinks;
+  sinks.push_back(std::make_shared<spdlog::sinks::basic_file_sink_mt>(file.string(), true));
+  auto console = std::make_shared<spdlog::sinks::stderr_color_sink_mt>();
+  console->set_level(quiet ? spdlog::level::warn : spdlog::level::info);
+  sinks.push_back(console);
+  auto logger = std::make_shared<spdlog::logger>("granflow", sinks.begin(), sinks.end());
+  logger->set_pattern("[%H:%M:%S.%e] %^%l%$ %v");
+  logger->set_level(spdlog::level::info);
+  logger->flush_on(spdlog::level::info);
+  return logger;
+}
+
+RunContext::RunContext(const Case& c, const std::filesystem::path& dir, bool force, bool quiet)
+    : run_case(c),
+      directory(dir, force),
+      log(make_logger(directory / "log.txt", quiet)),
+      result(directory / "result.h5"),
+      started(std::chrono::steady_clock::now()) {
+  std::ofstream(directory / "case.yaml") << "# resolved case as run by granflow (defaults filled in)\n"
+                                         << c.resolved_yaml();
+  result.attribute("/", "case_name", c.name());
+  result.attribute("/", "kind", c.kind());
+  result.attribute("/", "granflow_version", std::string("0.1.0"));
+}
+
+RunContext::~RunContext() = default;
+
+double RunContext::wall_seconds() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+}
+
+void RunContext::plot(const std::string& script) {
+  const auto path = source_dir() / "analysis" / "plots" / script;
+  if (!std::filesystem::exists(path)) {
+    log->warn("plot script {} not found; no PNG written", path.string());
+    return;
+  }
+  result.flush();
+  // Debian's interpreter has python3-matplotlib/python3-h5py; a python3 earlier on PATH (pyenv,
+  // venv) may not. GRANFLOW_PYTHON overrides.
+  std::string python = "python3";
+  if (const char* env = std::getenv("GRANFLOW_PYTHON"); env && *env) python = env;
+  else if (std::filesystem::exists("/usr/bin/python3")) python = "/usr/bin/python3";
+  const std::string command =
+      // result.h5 is still open for writing (flushed above): read it without HDF5's file lock.
+      fmt::format("HDF5_USE_FILE_LOCKING=FALSE '{}' '{}' '{}' >> '{}' 2>&1", python, path.string(), directory.path().string(),
+                  (directory / "log.txt").string());
+  if (std::system(command.c_str()) != 0)
+    log->warn("plotting with {} failed (python3-matplotlib and python3-h5py installed?); data in "
+              "result.h5 is complete", script);
+}
+
+void RunContext::finish() {
+  summary.set("cost.wall_s", wall_seconds());
+  summary.write(directory / "summary.json");
+  result.flush();
+}
+
+}  // namespace granflow::core

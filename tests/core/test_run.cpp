@@ -1,0 +1,79 @@
+// Run directory, summary.json, result.h5 and the numerical-failure stop.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "core/result_file.hpp"
+#include "core/run.hpp"
+
+namespace fs = std::filesystem;
+using namespace granflow::core;
+
+namespace {
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("granflow_test_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  return dir;
+}
+}  // namespace
+
+TEST(RunDirectory, ExistingDirectoryIsNeverOverwrittenWithoutForce) {
+  const fs::path dir = fresh_dir("rundir");
+  { RunDirectory first(dir, false); std::ofstream(dir / "result.h5") << "previous"; }
+  EXPECT_THROW(RunDirectory(dir, false), CaseError);
+  EXPECT_TRUE(fs::exists(dir / "result.h5"));  // untouched
+  RunDirectory forced(dir, true);
+  EXPECT_FALSE(fs::exists(dir / "result.h5"));
+  fs::remove_all(dir);
+}
+
+TEST(Summary, RoundTripsNumbersExactlyAndNaNAsNull) {
+  const fs::path dir = fresh_dir("summary");
+  fs::create_directories(dir);
+  Summary s;
+  s.set("steady.mu", 0.1 + 0.2);  // not representable in short decimal: checks %.17g
+  s.set("cost.wall_s", 1.5e-7);
+  s.set("steady.J", std::nan(""));
+  s.write(dir / "summary.json");
+  const Summary r = Summary::read(dir / "summary.json");
+  EXPECT_EQ(r.get("steady.mu"), 0.1 + 0.2);
+  EXPECT_EQ(r.get("cost.wall_s"), 1.5e-7);
+  EXPECT_TRUE(std::isnan(r.get("steady.J")));
+  fs::remove_all(dir);
+}
+
+TEST(ResultFile, DatasetsCarryUnitsAndSurviveReopen) {
+  const fs::path dir = fresh_dir("h5");
+  fs::create_directories(dir);
+  {
+    ResultFile f(dir / "result.h5");
+    const std::vector<double> T{1e-4, 2e-4, 3e-4};
+    f.write("series/granular_temperature", T, "m^2/s^2", "granular temperature");
+    f.write_matrix("fields/stress", std::vector<double>{1, 2, 3, 4, 5, 6}, 2, 3, "Pa", "stress");
+    f.attribute("/steady", "diameter", 1e-3);
+    f.attribute("/", "kind", std::string("rev"));
+  }
+  EXPECT_EQ(read_dataset(dir / "result.h5", "series/granular_temperature"),
+            (std::vector<double>{1e-4, 2e-4, 3e-4}));
+  EXPECT_EQ(read_string_attribute(dir / "result.h5", "series/granular_temperature", "unit"), "m^2/s^2");
+  EXPECT_EQ(read_number_attribute(dir / "result.h5", "/steady", "diameter"), 1e-3);
+  EXPECT_EQ(read_string_attribute(dir / "result.h5", "/", "kind"), "rev");
+  EXPECT_EQ(read_dataset(dir / "result.h5", "fields/stress").size(), 6u);
+  fs::remove_all(dir);
+}
+
+TEST(NumericalFailure, NamesStepPointAndVariable) {
+  try {
+    check_finite(-1e-3, 42, "material point 7", "granular_temperature", true);
+    FAIL();
+  } catch (const NumericalFailure& e) {
+    EXPECT_EQ(e.step, 42);
+    EXPECT_NE(std::string(e.what()).find("step 42, material point 7: granular_temperature = -0.001 (negative)"),
+              std::string::npos) << e.what();
+  }
+  EXPECT_THROW(check_finite(std::nan(""), 1, "p", "v"), NumericalFailure);
+  EXPECT_THROW(check_finite(INFINITY, 1, "p", "v"), NumericalFailure);
+  EXPECT_NO_THROW(check_finite(0.0, 1, "p", "v", true));
+}
