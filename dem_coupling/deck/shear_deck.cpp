@@ -1,0 +1,225 @@
+#include "dem_coupling/deck/shear_deck.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <numeric>
+#include <random>
+
+namespace granflow::dem {
+
+namespace {
+
+// Random close packing of monodisperse spheres; polydisperse packings reach a little more, but
+// a sheared sample above ~0.64 cannot exist (Berryman 1983; model.md section 7).
+constexpr double max_solid_fraction = 0.64;
+
+// Uniform double in [0, 1) from the 53 high bits; mt19937_64 is fully specified by the C++
+// standard, so a seed gives the same sample on every platform.
+double uniform(std::mt19937_64& rng) { return double(rng() >> 11) * 0x1.0p-53; }
+
+struct SizeRange {
+  double small, large;
+};
+
+SizeRange size_range(const DemMaterial& m) {
+  switch (m.size) {
+    case SizeDistribution::bidisperse: {
+      // number mean d = (1 - f) d_s + f r d_s
+      const double small = m.diameter / (1.0 - m.large_fraction + m.large_fraction * m.size_ratio);
+      return {small, small * m.size_ratio};
+    }
+    case SizeDistribution::uniform:
+      return {m.diameter * (1.0 - m.polydispersity), m.diameter * (1.0 + m.polydispersity)};
+    case SizeDistribution::monodisperse:
+      break;
+  }
+  return {m.diameter, m.diameter};
+}
+
+long steps_for(double strain, double shear_rate, double dt) {
+  return std::max(1L, std::lround(strain / (shear_rate * dt)));
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, std::string>> check_shear_params(const ShearDeckParams& p) {
+  std::vector<std::pair<std::string, std::string>> issues;
+  const DemMaterial& m = p.material;
+  if (m.size == SizeDistribution::bidisperse && !(m.size_ratio >= 1.0))
+    issues.emplace_back("material.size_ratio", ">= 1 (d_large / d_small)");
+  if (m.size == SizeDistribution::uniform && !(m.polydispersity >= 0 && m.polydispersity < 1))
+    issues.emplace_back("material.polydispersity", "in [0, 1)");
+  if (!(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5))
+    issues.emplace_back("material.poisson_ratio", "in (-1, 0.5)");
+  if (!(m.restitution > 0.0 && m.restitution <= 1.0))
+    issues.emplace_back("material.restitution", "in (0, 1] (Hertz damping needs e > 0)");
+  if (!(p.solid_fraction > 0.0 && p.solid_fraction < max_solid_fraction))
+    issues.emplace_back("control.solid_fraction",
+                        fmt::format("in (0, {}) (random close packing)", max_solid_fraction));
+  if (p.particles < 8) issues.emplace_back("dem.particles", ">= 8");
+  if (!(p.sample_strain < p.total_strain)) issues.emplace_back("strain.sample", "< strain.total");
+  if (p.constant_pressure && !(p.servo_strain >= p.sample_strain))
+    issues.emplace_back("control.servo_strain", ">= strain.sample");
+  if (issues.empty()) {
+    // The compressed periodic box must hold a few of the largest particles across, or the
+    // ghost shell (cutoff d_max + skin) would wrap onto itself.
+    const SizeRange s = size_range(m);
+    const double vs = p.particles * std::numbers::pi / 6.0 * m.diameter * m.diameter * m.diameter;
+    const double box = std::cbrt(vs / p.solid_fraction);
+    if (box < 4.0 * s.large)
+      issues.emplace_back("dem.particles",
+                          fmt::format("enough particles for a box of >= 4 largest diameters (box "
+                                      "would be {:.3g} d_max)",
+                                      box / s.large));
+    if (p.profile_bins < 1 || box / p.profile_bins < 0.5 * m.diameter)
+      issues.emplace_back("output.profile_bins",
+                          fmt::format("between 1 and {} (bins at least d/2 high)",
+                                      std::max(1L, std::lround(2.0 * box / m.diameter))));
+  }
+  return issues;
+}
+
+ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file_name) {
+  ShearDeck out;
+  const DemMaterial& m = p.material;
+  const SizeRange range = size_range(m);
+  out.small_diameter = range.small;
+  out.large_diameter = range.large;
+
+  // --- diameters (seeded)
+  std::mt19937_64 rng(p.seed);
+  const long n = p.particles;
+  out.diameters.assign(n, m.diameter);
+  if (m.size == SizeDistribution::bidisperse) {
+    const long n_large = std::lround(m.large_fraction * double(n));
+    for (long i = 0; i < n; ++i) out.diameters[i] = i < n_large ? range.large : range.small;
+  } else if (m.size == SizeDistribution::uniform) {
+    for (auto& d : out.diameters) d = range.small + (range.large - range.small) * uniform(rng);
+  }
+  out.mean_diameter = std::accumulate(out.diameters.begin(), out.diameters.end(), 0.0) / n;
+  out.solid_volume = 0.0;
+  for (double d : out.diameters) out.solid_volume += std::numbers::pi / 6.0 * d * d * d;
+
+  // --- loose simple-cubic lattice: spacing 1.05 d_max, so no two particles overlap; N of the
+  // n^3 sites chosen by a seeded Fisher-Yates shuffle, positions jittered by 2 % of a spacing.
+  const long cells = static_cast<long>(std::ceil(std::cbrt(double(n)) - 1e-9));
+  const double spacing = 1.05 * range.large;
+  out.initial_box_length = cells * spacing;
+  std::vector<long> sites(cells * cells * cells);
+  std::iota(sites.begin(), sites.end(), 0L);
+  for (long i = 0; i < n; ++i) {
+    const long j = i + static_cast<long>(uniform(rng) * double(sites.size() - i));
+    std::swap(sites[i], sites[j]);
+  }
+  std::string atoms;
+  for (long i = 0; i < n; ++i) {
+    const long s = sites[i];
+    const long ix = s % cells, iy = (s / cells) % cells, iz = s / (cells * cells);
+    double pos[3] = {(ix + 0.5) * spacing, (iy + 0.5) * spacing, (iz + 0.5) * spacing};
+    for (double& c : pos) c += 0.02 * spacing * (2.0 * uniform(rng) - 1.0);
+    atoms += fmt::format("{} 1 {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", i + 1, out.diameters[i],
+                         m.particle_density, pos[0], pos[1], pos[2]);
+  }
+  out.data = fmt::format(
+      "LIGGGHTS data file written by granflow: {} spheres, seed {}\n\n{} atoms\n1 atom types\n\n"
+      "0 {:.17g} xlo xhi\n0 {:.17g} ylo yhi\n0 {:.17g} zlo zhi\n0 0 0 xy xz yz\n\n"
+      "Atoms\n\n{}",
+      n, p.seed, n, out.initial_box_length, out.initial_box_length, out.initial_box_length, atoms);
+
+  // --- time step from the contact time of the smallest particle
+  const double reference_speed = p.impact_speed_factor * p.shear_rate * range.large;
+  out.times = contact_times(0.5 * range.small, m.particle_density, m.youngs_modulus,
+                            m.poisson_ratio, reference_speed);
+  out.dt = p.dt_safety * out.times.shortest();
+  out.sample_every = steps_for(p.sample_strain, p.shear_rate, out.dt);
+  out.servo_every =
+      p.constant_pressure
+          ? std::max(1L, std::lround(double(steps_for(p.servo_strain, p.shear_rate, out.dt)) /
+                                     double(out.sample_every))) *
+                out.sample_every
+          : out.sample_every;
+  const long block = p.constant_pressure ? out.servo_every : out.sample_every;
+  out.total_steps =
+      std::max(1L, std::lround(double(steps_for(p.total_strain, p.shear_rate, out.dt)) / block)) *
+      block;
+  out.box_length = std::cbrt(out.solid_volume / p.solid_fraction);
+
+  const double skin = 0.2 * out.mean_diameter;
+  const double top_speed = p.shear_rate * out.box_length;
+  out.deck = fmt::format(
+      R"(# granflow DEM deck: Lees-Edwards periodic simple shear, LIGGGHTS 3.8.0 (Debian).
+# Run it with the granflow-dem driver, NOT plain liggghts: the driver repairs the triclinic
+# bug of LIGGGHTS-PUBLIC 3.8.0 (domain.cpp:144-145, prd_lamda = 0) and runs the shear stage
+# (sampling every gf_sample_every steps, constant-normal-stress servo) after this file:
+#   granflow-dem in.granflow            or   mpirun -np 2 granflow-dem in.granflow
+# dt = {dt_safety} * min(t_Rayleigh = {t_r:.6g} s, t_Hertz = {t_h:.6g} s at {v_ref:.4g} m/s)
+
+# ---- parameters read by granflow-dem
+variable gf_shear_rate equal {gd:.17g}
+variable gf_total_steps equal {total}
+variable gf_sample_every equal {sample}
+variable gf_constant_pressure equal {cp}
+variable gf_normal_stress equal {p0:.17g}
+variable gf_servo_gain equal {gain:.17g}
+variable gf_servo_max_strain equal {servo_max:.17g}
+variable gf_servo_every equal {servo}
+variable gf_profile_bins equal {bins}
+variable gf_particle_density equal {rho:.17g}
+
+atom_style      granular
+atom_modify     map array
+boundary        p p p
+newton          off
+communicate     single vel yes
+units           si
+read_data       {data}
+neighbor        {skin:.17g} bin
+neigh_modify    delay 0
+
+fix m1 all property/global youngsModulus peratomtype {E:.17g}
+fix m2 all property/global poissonsRatio peratomtype {nu:.17g}
+fix m3 all property/global coefficientRestitution peratomtypepair 1 {e:.17g}
+fix m4 all property/global coefficientFriction peratomtypepair 1 {mu:.17g}
+pair_style      gran model hertz tangential history
+pair_coeff      * *
+timestep        {dt:.17g}
+fix             integr all nve/sphere
+
+# contact (pair + fix) virial; the kinetic part about the streaming profile is added by the driver
+compute         gf_virial all pressure thermo_temp virial
+thermo_style    custom step atoms ke c_gf_virial[2] c_gf_virial[4]
+thermo_modify   norm no lost error
+thermo          {thermo_comp}
+
+# ---- stage 1: isotropic compression to phi = {phi:.6g} (box edge {l0:.6g} m -> {l1:.6g} m)
+fix             gf_compress all deform 1 x final 0 {l1:.17g} y final 0 {l1:.17g} z final 0 {l1:.17g} remap x
+run             {ncomp}
+unfix           gf_compress
+
+# ---- stage 2: Lees-Edwards simple shear u_x = gd (y - ylo): streaming profile + tilt rate
+velocity        all ramp vx 0 {vtop:.17g} y 0 {l1:.17g} units box sum yes
+fix             gf_shear all deform 1 xy erate {gd:.17g} remap v
+thermo          {sample}
+)",
+      fmt::arg("dt_safety", p.dt_safety), fmt::arg("t_r", out.times.rayleigh),
+      fmt::arg("t_h", out.times.hertz), fmt::arg("v_ref", reference_speed),
+      fmt::arg("gd", p.shear_rate), fmt::arg("total", out.total_steps),
+      fmt::arg("sample", out.sample_every), fmt::arg("cp", p.constant_pressure ? 1 : 0),
+      fmt::arg("p0", p.normal_stress), fmt::arg("gain", p.servo_gain),
+      fmt::arg("servo_max", p.servo_max_strain), fmt::arg("servo", out.servo_every),
+      fmt::arg("bins", p.profile_bins), fmt::arg("rho", m.particle_density),
+      fmt::arg("data", data_file_name), fmt::arg("skin", skin), fmt::arg("E", m.youngs_modulus),
+      fmt::arg("nu", m.poisson_ratio), fmt::arg("e", m.restitution),
+      fmt::arg("mu", m.particle_friction), fmt::arg("dt", out.dt),
+      fmt::arg("thermo_comp", std::max(1L, p.compression_steps / 5)),
+      fmt::arg("phi", p.solid_fraction), fmt::arg("l0", out.initial_box_length),
+      fmt::arg("l1", out.box_length), fmt::arg("ncomp", p.compression_steps),
+      fmt::arg("vtop", top_speed));
+  return out;
+}
+
+}  // namespace granflow::dem

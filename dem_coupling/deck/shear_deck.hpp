@@ -1,0 +1,70 @@
+// LIGGGHTS input deck for Lees-Edwards simple shear, generated from case parameters.
+// The deck (in.granflow) plus its particle file (particles.data) build the sample: random
+// non-overlapping sites of a loose simple-cubic lattice in a zero-tilt prism box, isotropic
+// compression (fix deform ... remap x) to the target solid fraction, then the streaming profile
+// (velocity ramp) and `fix deform 1 xy erate GD remap v` (Lees-Edwards). The shear stage itself
+// (sampling, servo) is run by granflow-dem, which reads the gf_* variables of the deck.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "dem_coupling/deck/contact_time.hpp"
+
+namespace granflow::dem {
+
+enum class SizeDistribution { monodisperse, bidisperse, uniform };
+
+struct DemMaterial {
+  double diameter = 1e-3;          // number-mean diameter d, m
+  double particle_density = 2500;  // rho_p, kg/m^3
+  double restitution = 0.7;        // normal coefficient of restitution e_n
+  double particle_friction = 0.5;  // Coulomb friction mu_p
+  double youngs_modulus = 1e7;     // E, Pa
+  double poisson_ratio = 0.3;      // nu
+  SizeDistribution size = SizeDistribution::bidisperse;
+  double size_ratio = 1.22;     // bidisperse: d_large / d_small
+  double large_fraction = 0.5;  // bidisperse: number fraction of large particles
+  double polydispersity = 0.1;  // uniform: d in d (1 -+ polydispersity)
+};
+
+struct ShearDeckParams {
+  DemMaterial material;
+  long particles = 1000;
+  unsigned long seed = 1;
+  bool constant_pressure = false;
+  double solid_fraction = 0.55;  // constant volume: the imposed phi; constant pressure: start
+  double normal_stress = 100.0;  // constant pressure: imposed sigma_yy, Pa
+  double servo_gain = 0.01;
+  double servo_max_strain = 0.002;  // largest relative height change per servo update
+  double servo_strain = 0.1;        // shear strain between servo updates
+  double shear_rate = 20.0;         // 1/s
+  double total_strain = 20.0;
+  double sample_strain = 0.01;       // shear strain between samples
+  double dt_safety = 0.1;            // dt = dt_safety * min(t_Rayleigh, t_Hertz)
+  double impact_speed_factor = 3.0;  // reference impact speed = factor * shear_rate * d_max
+  int profile_bins = 10;
+  long compression_steps = 10000;
+};
+
+struct ShearDeck {
+  std::string deck;  // text of in.granflow
+  std::string data;  // text of the particle file
+  std::vector<double> diameters;
+  double small_diameter = 0, large_diameter = 0, mean_diameter = 0;
+  ContactTimes times;
+  double dt = 0;
+  long sample_every = 0, servo_every = 0, total_steps = 0;
+  double initial_box_length = 0, box_length = 0;  // lattice box, compressed box (m)
+  double solid_volume = 0;                        // m^3
+};
+
+// Parameter problems that make the case impossible, as (key path, what is expected) pairs,
+// checked before LIGGGHTS starts. Empty when the case can run.
+std::vector<std::pair<std::string, std::string>> check_shear_params(const ShearDeckParams& p);
+
+// Builds the deck; `data_file_name` is the particle file name as the deck refers to it.
+ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file_name);
+
+}  // namespace granflow::dem

@@ -1,0 +1,301 @@
+// granflow-dem: runs a granflow shear deck in Debian's LIGGGHTS 3.8.0 and samples the
+// extraction harness.
+//
+//   granflow-dem DECK [--series FILE] [--profile FILE] [--stats FILE] [LIGGGHTS options]
+//   (LIGGGHTS options: -log FILE, -screen none, -echo ..., -var NAME VALUE ...)
+//
+// 1. constructs the LIGGGHTS instance and applies the triclinic workaround (liggghts_access.cpp)
+//    and registers granflow's own fix styles (fix_styles.cpp);
+// 2. reads DECK (sample preparation; defines the gf_* parameters and fix gf_shear);
+// 3. runs the shear stage in chunks of gf_sample_every steps (`run N start S stop E pre no`,
+//    so fix deform's tilt stays continuous inside a segment) and after each chunk samples
+//    the atom arrays through the instance (lammps_extract_atom, compute gf_virial, the pair's
+//    neighbour list), reduces the sums over ranks (one MPI_Allreduce) and rank 0 appends a row
+//    to the series file (flushed, so a run stopped by an error keeps what it wrote);
+// 4. under constant normal stress, every gf_servo_every steps rescales the box height with
+//    NormalStressServo (change_box ... remap) and starts a new segment.
+// Exit codes: 0 ok, 1 LIGGGHTS error (LIGGGHTS exits itself), 2 bad arguments/deck,
+// 3 numerical failure (NaN/Inf or negative T in a sample).
+#include <mpi.h>
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dem_coupling/extraction/normal_stress_servo.hpp"
+#include "dem_coupling/extraction/shear_sample.hpp"
+#include "dem_coupling/fix_styles.hpp"
+#include "dem_coupling/liggghts_access.hpp"
+#include "domain.h"
+#include "force.h"
+#include "lammps.h"
+#include "library.h"
+#include "lmptype.h"
+#include "neigh_list.h"
+#include "pair.h"
+#include "update.h"
+
+namespace {
+
+using granflow::dem::ShearSample;
+using Clock = std::chrono::steady_clock;
+
+struct Options {
+  std::string deck;
+  std::string series = "series.tsv";
+  std::string profile = "profile.tsv";
+  std::string stats = "driver_stats.tsv";
+  std::vector<std::string> liggghts_args{"granflow-dem"};
+};
+
+[[noreturn]] void usage_error(int rank, const std::string& message) {
+  if (rank == 0) std::fprintf(stderr, "ERROR: granflow-dem: %s\n", message.c_str());
+  MPI_Finalize();
+  std::exit(2);
+}
+
+Options parse(int argc, char** argv, int rank) {
+  Options o;
+  if (argc < 2 || argv[1][0] == '-')
+    usage_error(rank,
+                "usage: granflow-dem DECK [--series F] [--profile F] [--stats F] "
+                "[LIGGGHTS options]");
+  o.deck = argv[1];
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) usage_error(rank, "option " + a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--series")
+      o.series = value();
+    else if (a == "--profile")
+      o.profile = value();
+    else if (a == "--stats")
+      o.stats = value();
+    else
+      o.liggghts_args.push_back(a);  // -log F, -screen none, -var N V, ... go to LIGGGHTS
+  }
+  return o;
+}
+
+// An equal-style variable of the deck; missing variables are a deck error.
+double deck_variable(void* handle, const char* name, int rank) {
+  void* p = lammps_extract_variable(handle, const_cast<char*>(name), nullptr);
+  if (p == nullptr) usage_error(rank, std::string("deck does not define variable ") + name);
+  double* value = static_cast<double*>(p);
+  const double v = *value;
+  std::free(value);  // equal-style values are malloc'ed by library.cpp
+  return v;
+}
+
+void write_series_header(std::FILE* f) {
+  std::fprintf(f,
+               "step\ttime\tstrain\tlx\tly\tlz\txy\tvolume\t"
+               "Pvir_xx\tPvir_yy\tPvir_zz\tPvir_xy\tPvir_xz\tPvir_yz\t"
+               "Pkin_xx\tPkin_yy\tPkin_zz\tPkin_xy\tPkin_xz\tPkin_yz\t"
+               "P_xx\tP_yy\tP_zz\tP_xy\tP_xz\tP_yz\t"
+               "sigma_yy\ttau\tp\tmu\tT\tphi\te\tI\tZ\td_mean\t"
+               "momentum_x\tmomentum_y\tmomentum_z\tparticles\tprofile_deviation\n");
+}
+
+void write_series_row(std::FILE* f, const ShearSample& s) {
+  std::fprintf(f, "%ld\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g", s.step, s.time, s.strain,
+               s.box.lx, s.box.ly, s.box.lz, s.box.xy, s.box.volume());
+  for (double v : s.virial_stress) std::fprintf(f, "\t%.10g", v);
+  for (double v : s.kinetic_stress) std::fprintf(f, "\t%.10g", v);
+  for (double v : s.stress) std::fprintf(f, "\t%.10g", v);
+  std::fprintf(f, "\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g",
+               s.normal_stress, s.shear_stress, s.pressure, s.friction, s.temperature,
+               s.solid_fraction, s.void_ratio, s.inertial_number, s.coordination, s.mean_diameter);
+  std::fprintf(f, "\t%.17g\t%.17g\t%.17g\t%.0f\t%.10g\n", s.peculiar_momentum[0],
+               s.peculiar_momentum[1], s.peculiar_momentum[2], s.particles, s.profile_deviation);
+  std::fflush(f);
+}
+
+void write_profile_row(std::FILE* f, const ShearSample& s) {
+  std::fprintf(f, "%ld\t%.10g", s.step, s.strain);
+  for (double v : s.profile_velocity) std::fprintf(f, "\t%.10g", v);
+  std::fputc('\n', f);
+  std::fflush(f);
+}
+
+// Stops the run (all ranks see the same global sample) with exit code 3.
+void check_sample(const ShearSample& s, int rank) {
+  const std::pair<const char*, double> checked[] = {{"sigma_yy", s.normal_stress},
+                                                    {"tau", s.shear_stress},
+                                                    {"T", s.temperature},
+                                                    {"phi", s.solid_fraction},
+                                                    {"Z", s.coordination}};
+  for (const auto& [name, value] : checked) {
+    if (std::isfinite(value) && !(std::string(name) == "T" && value < 0.0)) continue;
+    if (rank == 0)
+      std::fprintf(stderr,
+                   "ERROR: granflow-dem: numerical failure at step %ld (strain %.4g), whole "
+                   "sample: %s = %g\n",
+                   s.step, s.strain, name, value);
+    MPI_Finalize();
+    std::exit(3);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  Options opt = parse(argc, argv, rank);
+
+  std::vector<char*> largv;
+  for (auto& a : opt.liggghts_args) largv.push_back(a.data());
+  void* handle = nullptr;
+  lammps_open(static_cast<int>(largv.size()), largv.data(), MPI_COMM_WORLD, &handle);
+  auto* lmp = static_cast<LAMMPS_NS::LAMMPS*>(handle);
+  granflow::dem::apply_triclinic_workaround(*lmp);
+  granflow::dem::register_custom_fix_styles(*lmp);
+
+  if (rank == 0) {
+    if (std::FILE* probe = std::fopen(opt.deck.c_str(), "r"))
+      std::fclose(probe);
+    else
+      usage_error(rank, "cannot open deck " + opt.deck);
+  }
+  lammps_file(handle, opt.deck.c_str());
+
+  const double shear_rate = deck_variable(handle, "gf_shear_rate", rank);
+  const long total_steps = std::lround(deck_variable(handle, "gf_total_steps", rank));
+  const long sample_every = std::lround(deck_variable(handle, "gf_sample_every", rank));
+  const bool constant_pressure = deck_variable(handle, "gf_constant_pressure", rank) != 0.0;
+  const long servo_every = std::lround(deck_variable(handle, "gf_servo_every", rank));
+  const int bins = static_cast<int>(std::lround(deck_variable(handle, "gf_profile_bins", rank)));
+  const double particle_density = deck_variable(handle, "gf_particle_density", rank);
+  std::optional<granflow::dem::NormalStressServo> servo;
+  if (constant_pressure)
+    servo.emplace(deck_variable(handle, "gf_normal_stress", rank),
+                  deck_variable(handle, "gf_servo_gain", rank),
+                  deck_variable(handle, "gf_servo_max_strain", rank));
+  if (sample_every < 1 || total_steps < sample_every || (servo && servo_every % sample_every))
+    usage_error(rank,
+                "deck: need 1 <= gf_sample_every <= gf_total_steps and gf_servo_every a "
+                "multiple of gf_sample_every");
+  if (lmp->force->pair == nullptr) usage_error(rank, "deck defines no pair style");
+
+  std::FILE* series = nullptr;
+  std::FILE* profile = nullptr;
+  if (rank == 0) {
+    series = std::fopen(opt.series.c_str(), "w");
+    profile = std::fopen(opt.profile.c_str(), "w");
+    if (!series || !profile) usage_error(rank, "cannot write " + opt.series + " / " + opt.profile);
+    write_series_header(series);
+    std::fprintf(profile,
+                 "# mean v_x (m/s) in %d y bins of equal height; columns: step strain "
+                 "bin_0 ... bin_%d\n",
+                 bins, bins - 1);
+  }
+
+  granflow::dem::SampleSums local(bins), global(bins);
+  const double dt = lmp->update->dt;
+  const long shear_begin = lmp->update->ntimestep;
+  const long segment_steps = servo ? servo_every : total_steps;
+  double liggghts_seconds = 0.0, harness_seconds = 0.0;
+  long samples = 0;
+  double segment_normal_stress = 0.0;
+  int segment_samples = 0;
+  char command[512];
+
+  for (long done = 0; done < total_steps;) {
+    const long segment_begin = shear_begin + done;
+    const long segment_end = segment_begin + std::min(segment_steps, total_steps - done);
+    for (long step = segment_begin; step < segment_end; step += sample_every) {
+      const long n = std::min(sample_every, segment_end - step);
+      std::snprintf(command, sizeof command, "run %ld start %ld stop %ld pre %s post no", n,
+                    segment_begin, segment_end, step == segment_begin ? "yes" : "no");
+      const auto t0 = Clock::now();
+      lammps_command(handle, command);
+      const auto t1 = Clock::now();
+      liggghts_seconds += std::chrono::duration<double>(t1 - t0).count();
+
+      // ---- sample (the harness)
+      local.clear();
+      const int nlocal = *static_cast<int*>(lammps_extract_global(handle, "nlocal"));
+      auto** x = static_cast<double**>(lammps_extract_atom(handle, "x"));
+      auto** v = static_cast<double**>(lammps_extract_atom(handle, "v"));
+      const auto* mass = static_cast<double*>(lammps_extract_atom(handle, "rmass"));
+      const auto* radius = static_cast<double*>(lammps_extract_atom(handle, "radius"));
+      const LAMMPS_NS::Domain& domain = *lmp->domain;
+      const granflow::dem::ShearFrame frame{shear_rate, domain.boxlo[1], domain.yprd};
+      granflow::dem::ParticleView view{nlocal, nlocal ? x[0] : nullptr, nlocal ? v[0] : nullptr,
+                                       mass, radius};
+      granflow::dem::accumulate_particles(view, frame, local);
+      if (const LAMMPS_NS::NeighList* list = lmp->force->pair->list) {
+        granflow::dem::HalfNeighborList half{list->inum, list->ilist, list->numneigh,
+                                             list->firstneigh, NEIGHMASK};
+        granflow::dem::accumulate_contacts(half, nlocal ? x[0] : nullptr, radius, nlocal, local);
+      }
+      MPI_Allreduce(local.data(), global.data(), local.size(), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+      const auto* virial = static_cast<double*>(lammps_extract_compute(handle, "gf_virial", 0, 1));
+      if (virial == nullptr) usage_error(rank, "deck defines no compute gf_virial (pressure)");
+      const std::array<double, 6> virial_stress{virial[0], virial[1], virial[2],
+                                                virial[3], virial[4], virial[5]};
+      const granflow::dem::BoxState box{domain.xprd, domain.yprd, domain.zprd, domain.xy};
+      ShearSample s =
+          granflow::dem::finalize_sample(global, virial_stress, box, frame, particle_density);
+      s.step = lmp->update->ntimestep;
+      s.time = double(s.step - shear_begin) * dt;
+      s.strain = shear_rate * s.time;
+      check_sample(s, rank);
+      if (rank == 0) {
+        write_series_row(series, s);
+        write_profile_row(profile, s);
+      }
+      ++samples;
+      segment_normal_stress += s.normal_stress;
+      ++segment_samples;
+      harness_seconds += std::chrono::duration<double>(Clock::now() - t1).count();
+    }
+    done = segment_end - shear_begin;
+    if (servo && done < total_steps) {
+      const auto t0 = Clock::now();
+      const double height =
+          servo->next_height(lmp->domain->yprd, segment_normal_stress / segment_samples);
+      std::snprintf(command, sizeof command, "change_box all y final %.17g %.17g remap units box",
+                    lmp->domain->boxlo[1], lmp->domain->boxlo[1] + height);
+      lammps_command(handle, command);
+      harness_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+    }
+    segment_normal_stress = 0.0;
+    segment_samples = 0;
+  }
+
+  const double natoms = double(lammps_get_natoms(handle));
+  if (rank == 0) {
+    std::fclose(series);
+    std::fclose(profile);
+    int ranks = 1;
+    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+    const double particle_steps_per_s = natoms * double(total_steps) / liggghts_seconds;
+    if (std::FILE* f = std::fopen(opt.stats.c_str(), "w")) {
+      std::fprintf(f,
+                   "ranks\tparticles\tsteps\tsamples\tdt\tliggghts_s\tharness_s\t"
+                   "particle_steps_per_s\tharness_fraction\n%d\t%.0f\t%ld\t%ld\t%.10g\t%.6g\t%.6g\t"
+                   "%.6g\t%.6g\n",
+                   ranks, natoms, total_steps, samples, dt, liggghts_seconds, harness_seconds,
+                   particle_steps_per_s, harness_seconds / liggghts_seconds);
+      std::fclose(f);
+    }
+    std::printf(
+        "granflow-dem: %d ranks, %.0f particles, %ld shear steps, %ld samples, "
+        "LIGGGHTS %.3f s, harness %.4f s (%.2f %%), %.4g particle-steps/s\n",
+        ranks, natoms, total_steps, samples, liggghts_seconds, harness_seconds,
+        100.0 * harness_seconds / liggghts_seconds, particle_steps_per_s);
+  }
+  lammps_close(handle);
+  MPI_Finalize();
+  return 0;
+}

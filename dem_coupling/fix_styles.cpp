@@ -1,0 +1,19 @@
+#include "dem_coupling/fix_styles.hpp"
+
+#include <array>
+
+namespace granflow::dem {
+
+namespace {
+// Add {"style/name", &create_style} entries here (see fix_styles.hpp).
+constexpr std::array<FixStyle, 0> fix_style_table{};
+}  // namespace
+
+std::span<const FixStyle> custom_fix_styles() { return fix_style_table; }
+
+void register_custom_fix_styles(LAMMPS_NS::LAMMPS& lmp) {
+  for (const FixStyle& style : custom_fix_styles())
+    register_fix_style(lmp, style.name, style.create);
+}
+
+}  // namespace granflow::dem
