@@ -1,0 +1,81 @@
+// Critical state of the force-chain model (seed §3.1: "the critical state locus shape in the
+// deviatoric plane is assumed to coincide with Lade-Duncan"), compression positive.
+//
+// Lade & Duncan (1975): I1³/I3 = k_LD at critical state. With I1 = 3p, I3 = p³ - p q²/3 +
+// (2/27) q³ cos3θ this reads, for η = q/p,
+//   h(η) = 1 - η²/3 + (2/27) cos3θ η³ - 27/k_LD = 0,
+// and k_LD follows from the compression value M_c (cos3θ = 1). M(θ) is the smallest positive
+// root (in (0, 3): q/p = 3 is σ3 = 0 in compression).
+// Critical void ratio (Li & Wang 1998): e_cs(p) = e_Γ - λ_c (p/p_atm)^ξ_c; state parameter
+// ψ = e - e_cs(p) (Been & Jefferies 1985), e clamped to [e_min, e_max].
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "continuum/model/force_chains/force_chain_parameters.hpp"
+#include "continuum/model/force_chains/stress_invariants.hpp"
+
+namespace granflow::model::force_chains {
+
+class CriticalStateLadeDuncan {
+ public:
+  explicit CriticalStateLadeDuncan(const ForceChainParameters& p)
+      : m_c_(p.M_c),
+        k_ld_(27.0 / (1.0 - p.M_c * p.M_c / 3.0 + 2.0 / 27.0 * p.M_c * p.M_c * p.M_c)),
+        e_gamma_(p.e_Gamma),
+        lambda_c_(p.lambda_c),
+        xi_c_(p.xi_c),
+        p_atm_(p.atmospheric_pressure),
+        e_min_(p.e_min),
+        e_max_(p.e_max) {}
+
+  double lade_duncan_constant() const { return k_ld_; }
+  double compression_ratio() const { return m_c_; }
+
+  // Critical stress ratio q/p at the Lode angle given by cos3θ: safeguarded Newton on h(η).
+  double stress_ratio(double cos3theta) const {
+    const double c = std::clamp(cos3theta, -1.0, 1.0);
+    const double target = 27.0 / k_ld_;
+    double lo = 0.0, hi = 3.0, eta = m_c_;
+    for (int it = 0; it < 40; ++it) {
+      const double h = 1.0 - eta * eta / 3.0 + 2.0 / 27.0 * c * eta * eta * eta - target;
+      if (h > 0)
+        lo = eta;
+      else
+        hi = eta;
+      const double dh = -2.0 * eta / 3.0 + 2.0 / 9.0 * c * eta * eta;
+      double next = dh < 0 ? eta - h / dh : 0.5 * (lo + hi);
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      if (std::abs(next - eta) < 1e-14) return next;
+      eta = next;
+    }
+    return eta;
+  }
+
+  // Lode-normalized stress ratio η̃ = M_c q/(p M(θ)): equals M_c on the critical state locus at
+  // every Lode angle. Capped at 3 M_c (beyond the no-tension limit) so that it stays finite as
+  // p -> 0.
+  double normalized_stress_ratio(const Tensor& stress) const {
+    const double p = mean_stress(stress);
+    const Tensor s = deviator(stress);
+    const double q = std::sqrt(1.5 * double_contraction(s, s));
+    const double cap = 3.0 * m_c_;
+    if (!(q > 0.0)) return 0.0;
+    if (!(p > 0.0)) return cap;
+    const double eta = m_c_ * q / (p * stress_ratio(lode_cos3theta(s)));
+    return std::min(eta, cap);
+  }
+
+  double critical_void_ratio(double p) const {
+    return e_gamma_ - lambda_c_ * std::pow(std::max(p, 0.0) / p_atm_, xi_c_);
+  }
+  double state_parameter(double void_ratio, double p) const {
+    return std::clamp(void_ratio, e_min_, e_max_) - critical_void_ratio(p);
+  }
+
+ private:
+  double m_c_, k_ld_, e_gamma_, lambda_c_, xi_c_, p_atm_, e_min_, e_max_;
+};
+
+}  // namespace granflow::model::force_chains

@@ -1,0 +1,366 @@
+// Force-chain model: stress update. Equations: docs/model/force_chains.md; integration after
+// Sloan, Abbo & Sheng (2001), "Refined explicit integration of elastoplastic models with
+// automatic error control", Eng. Comput. 18:121-154 (modified Euler pair, drift correction).
+#include "continuum/model/force_chains/force_chain_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace granflow::model::force_chains {
+
+namespace {
+constexpr double kInvSqrt3 = 0.57735026918962576;
+// f is clipped to ±kYieldClip for the root searches; it is dimensionless and O(1..10) on and
+// near the locus, so the clip only acts at the stress-free origin (-) and in tension (+).
+constexpr double kYieldClip = 1.0e3;
+// The stress-free apex is reached when r <= kApexRatio r_c (r/r_c = 1e-9 is 20 e-folds below
+// the smallest r/r_c the locus has in the no-tension region for γ ≈ 4, β_f ≈ 0.5).
+constexpr double kApexRatio = 1.0e-9;
+}  // namespace
+
+ForceChainModel::ForceChainModel(ForceChainParameters parameters)
+    : par_((validate(parameters), parameters)),
+      elastic_(par_),
+      yield_(par_),
+      critical_(par_),
+      dilatancy_(par_) {}
+
+double ForceChainModel::deviatoric_hardening(double psi) const {
+  return -(psi > 0.0 ? par_.xi_psi : par_.xi_psi_dense) * psi;
+}
+
+ForceChainState ForceChainModel::isotropic_state(double p, double void_ratio, double ocr) const {
+  ForceChainState s;
+  s.stress = p * Tensor::Identity();
+  s.chi = kInvSqrt3 * Tensor::Identity();
+  s.r_c = std::sqrt(3.0) * p * std::max(ocr, 1.0);
+  s.void_ratio = void_ratio;
+  s.fluidized = s.r_c < par_.fluidization_size;
+  if (s.fluidized) {
+    s.r_c = 0.0;
+    s.stress.setZero();
+  }
+  return s;
+}
+
+double ForceChainModel::safe_yield(const Tensor& stress, const Tensor& chi, double r_c) const {
+  if (!(r_c > 0.0)) return -kYieldClip;
+  const double r = double_contraction(stress, chi);
+  if (r > kApexRatio * r_c)
+    return std::clamp(yield_.value(stress, chi, r_c), -kYieldClip, kYieldClip);
+  // at (or beyond) the apex: the origin itself is inside, any other point is in tension
+  return stress.norm() <= kApexRatio * r_c ? -kYieldClip : kYieldClip;
+}
+
+double ForceChainModel::yield_value(const ForceChainState& state) const {
+  return safe_yield(state.stress, state.chi, state.r_c);
+}
+
+double ForceChainModel::dilatancy(const Tensor& stress, double void_ratio) const {
+  return dilatancy_.dilatancy(critical_.normalized_stress_ratio(stress),
+                              critical_.state_parameter(void_ratio, mean_stress(stress)));
+}
+
+Tensor ForceChainModel::flow_direction(const ForceChainState& state) const {
+  const Point y{state.stress, state.chi, state.plastic_strain, state.r_c, state.void_ratio};
+  return plastic_rates(y).m;
+}
+
+ForceChainModel::PlasticRates ForceChainModel::plastic_rates(const Point& y) const {
+  const YieldGradients g = yield_.gradients(y.stress, y.chi, y.r_c);
+  const double p = mean_stress(y.stress);
+  const Tensor s = deviator(y.stress);
+  const double normalized_ratio = critical_.normalized_stress_ratio(y.stress);
+  const double psi = critical_.state_parameter(y.void_ratio, p);
+  PlasticRates r;
+  r.value = g.value;
+  r.n = g.d_stress;
+  r.m = dilatancy_.direction(g.d_stress, normalized_ratio, psi);
+  // isotropic hardening: dr_c/dλ = (r_c/b_p)(m_v + ξ(ψ) m_q)
+  const double xi = deviatoric_hardening(psi);
+  r.size_rate = y.r_c / par_.b_p * (r.m.trace() + xi * deviatoric_strain(r.m));
+  // rotational hardening: dχ/dλ = c_p (χ̂ - χ) projected on the tangent of |χ| = 1
+  const double s_norm = s.norm();
+  Tensor chi_target = kInvSqrt3 * Tensor::Identity();
+  if (s_norm > 1e-12 * std::abs(p) && s_norm > 0.0) {
+    const double c3 = lode_cos3theta(s);
+    const double theta =
+        par_.theta_hat_e + (par_.theta_hat_c - par_.theta_hat_e) * 0.5 * (1.0 + c3);
+    chi_target = std::cos(theta) * kInvSqrt3 * Tensor::Identity() + (std::sin(theta) / s_norm) * s;
+  }
+  r.chi_rate = par_.c_p * (chi_target - y.chi);
+  r.chi_rate -= double_contraction(r.chi_rate, y.chi) * y.chi;
+  const double hardening = -(g.d_size * r.size_rate + double_contraction(g.d_axis, r.chi_rate));
+  r.stiffness_m = elastic_.apply(p, r.m);
+  const double n_d_m = double_contraction(r.n, r.stiffness_m);
+  // Softening beyond the elastic stiffness (n:D:m + H <= 0) has no strain-driven solution; the
+  // denominator is kept >= 1% of n:D:m (documented as a limiter in docs/model/force_chains.md).
+  r.denominator = std::max(n_d_m + hardening, 1e-2 * std::abs(n_d_m));
+  if (!(r.denominator > 0.0)) r.denominator = 1e-300;
+  return r;
+}
+
+ForceChainModel::Increment ForceChainModel::increment(const Point& y, const Tensor& strain,
+                                                      bool plastic) const {
+  Increment inc;
+  const Tensor elastic_stress = elastic_.apply(mean_stress(y.stress), strain);
+  inc.void_ratio = (1.0 + y.void_ratio) * std::expm1(-strain.trace());
+  if (!plastic) {
+    inc.stress = elastic_stress;
+    inc.chi.setZero();
+    inc.plastic_strain.setZero();
+    inc.r_c = 0.0;
+    inc.plastic_multiplier = 0.0;
+    return inc;
+  }
+  const PlasticRates r = plastic_rates(y);
+  const double dlambda = std::max(double_contraction(r.n, elastic_stress) / r.denominator, 0.0);
+  inc.stress = elastic_stress - dlambda * r.stiffness_m;
+  inc.chi = dlambda * r.chi_rate;
+  inc.plastic_strain = dlambda * r.m;
+  inc.r_c = dlambda * r.size_rate;
+  inc.plastic_multiplier = dlambda;
+  return inc;
+}
+
+void ForceChainModel::correct_drift(Point& y) const {
+  for (int it = 0; it < 4; ++it) {
+    if (!(double_contraction(y.stress, y.chi) > kApexRatio * y.r_c)) return;
+    const PlasticRates r = plastic_rates(y);
+    const double f0 = r.value;
+    if (std::abs(f0) <= par_.yield_tolerance) return;
+    // consistent correction: move σ, r_c, χ along the plastic flow (Sloan et al. 2001, §4)
+    const double dlambda = f0 / r.denominator;
+    Point c = y;
+    c.stress -= dlambda * r.stiffness_m;
+    c.r_c = std::max(y.r_c + dlambda * r.size_rate, 0.5 * y.r_c);
+    c.chi += dlambda * r.chi_rate;
+    c.chi /= c.chi.norm();
+    c.plastic_strain += dlambda * r.m;
+    double f1 = safe_yield(c.stress, c.chi, c.r_c);
+    if (!(std::abs(f1) < std::abs(f0))) {
+      // normal correction: σ only, along ∂f/∂σ
+      c = y;
+      c.stress -= (f0 / double_contraction(r.n, r.n)) * r.n;
+      f1 = safe_yield(c.stress, c.chi, c.r_c);
+      if (!(std::abs(f1) < std::abs(f0))) return;
+    }
+    y = c;
+  }
+}
+
+double ForceChainModel::elastic_fraction(const Point& y, const Tensor& strain, double f0) const {
+  auto f_at = [&](double alpha) {
+    return safe_yield(elastic_.finite_update(y.stress, alpha * strain), y.chi, y.r_c);
+  };
+  const double ftol = par_.yield_tolerance;
+  double lo = 0.0, f_lo = f0, hi = 1.0, f_hi = f_at(1.0);
+  if (f0 > -ftol) {  // starting on the locus: loading or elastic unloading first?
+    const YieldGradients g = yield_.gradients(y.stress, y.chi, y.r_c);
+    const Tensor elastic_stress = elastic_.apply(mean_stress(y.stress), strain);
+    if (double_contraction(g.d_stress, elastic_stress) >= 0.0) return 0.0;
+    constexpr int kScan = 16;  // unloading then reloading inside the increment
+    bool found = false;
+    for (int j = 1; j <= kScan; ++j) {
+      const double a = double(j) / kScan, fa = f_at(a);
+      if (!found) {
+        if (fa < -ftol) {
+          lo = a;
+          f_lo = fa;
+          found = true;
+        }
+      } else if (fa > ftol) {
+        hi = a;
+        f_hi = fa;
+        break;
+      } else {
+        lo = a;
+        f_lo = fa;
+      }
+    }
+    if (!found) return 0.0;
+  }
+  // Illinois (modified regula falsi) on [lo, hi] with f_lo < 0 < f_hi
+  double alpha = lo;
+  for (int it = 0; it < 60; ++it) {
+    alpha = hi - f_hi * (hi - lo) / (f_hi - f_lo);
+    if (!(alpha > lo && alpha < hi)) alpha = 0.5 * (lo + hi);
+    const double fa = f_at(alpha);
+    if (std::abs(fa) <= ftol || hi - lo < 1e-15) break;
+    if (fa < 0) {
+      lo = alpha;
+      f_lo = fa;
+      f_hi *= 0.5;
+    } else {
+      hi = alpha;
+      f_hi = fa;
+      f_lo *= 0.5;
+    }
+  }
+  return alpha;
+}
+
+double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& info) const {
+  const double f0 = safe_yield(y.stress, y.chi, y.r_c);
+  const Tensor trial = elastic_.finite_update(y.stress, strain);
+  if (safe_yield(trial, y.chi, y.r_c) <= par_.yield_tolerance) {
+    y.stress = trial;
+    y.void_ratio = (1.0 + y.void_ratio) * std::exp(-strain.trace()) - 1.0;
+    return 0.0;
+  }
+  const double alpha = elastic_fraction(y, strain, f0);
+  if (alpha > 0.0) {
+    y.stress = elastic_.finite_update(y.stress, alpha * strain);
+    y.void_ratio = (1.0 + y.void_ratio) * std::exp(-alpha * strain.trace()) - 1.0;
+  }
+  const Tensor rest = (1.0 - alpha) * strain;
+  const bool fixed = par_.fixed_substeps > 0;
+  const double stol = par_.stress_tolerance;
+  double t = 0.0, dt = fixed ? 1.0 / par_.fixed_substeps : 1.0;
+  bool last_failed = false;
+  int attempts = 0;
+  auto at_apex = [](const Point& z) {
+    return !(double_contraction(z.stress, z.chi) > kApexRatio * z.r_c);
+  };
+  auto add = [](const Point& z, const Increment& a, const Increment& b, double w) {
+    Point out = z;
+    out.stress += w * (a.stress + b.stress);
+    out.chi += w * (a.chi + b.chi);
+    out.plastic_strain += w * (a.plastic_strain + b.plastic_strain);
+    out.r_c = std::max(out.r_c + w * (a.r_c + b.r_c), 0.0);
+    out.void_ratio += w * (a.void_ratio + b.void_ratio);
+    return out;
+  };
+  const Increment zero{Tensor::Zero(), Tensor::Zero(), Tensor::Zero(), 0.0, 0.0, 0.0};
+  while (t < 1.0 - 1e-12) {
+    ++attempts;
+    const bool last_chance = fixed || attempts >= par_.max_substeps || dt < 1e-9;
+    const Tensor sub = dt * rest;
+    const Increment k1 = increment(y, sub, true);
+    const Point y1 = add(y, k1, zero, 1.0);
+    Point next = y1;
+    double error = 0.0;
+    bool apex = at_apex(y1);
+    if (!apex) {
+      const Increment k2 = increment(y1, sub, true);
+      next = add(y, k1, k2, 0.5);
+      apex = at_apex(next);
+      const double stress_scale = std::max(next.stress.norm(), par_.pressure_floor);
+      const double size_scale = std::max(next.r_c, par_.fluidization_size);
+      error = std::max(0.5 * (k2.stress - k1.stress).norm() / stress_scale,
+                       0.5 * std::abs(k2.r_c - k1.r_c) / size_scale);
+    }
+    if (apex) {
+      if (!last_chance) {  // shorten the step to approach the apex
+        dt *= 0.25;
+        ++info.rejected_substeps;
+        last_failed = true;
+        continue;
+      }
+      return (1.0 - alpha) * (1.0 - t);  // the rest is contact loss at the apex
+    }
+    if (!last_chance && error > stol) {
+      ++info.rejected_substeps;
+      dt *= std::max(0.9 * std::sqrt(stol / error), 0.1);
+      last_failed = true;
+      continue;
+    }
+    y = next;
+    y.chi /= y.chi.norm();
+    correct_drift(y);
+    t += dt;
+    ++info.substeps;
+    info.plastic = true;
+    if (y.r_c < par_.fluidization_size) return 0.0;  // fluidized: the caller clears σ
+    if (!fixed) {
+      double factor = error > 0.0 ? 0.9 * std::sqrt(stol / error) : 1.1;
+      factor = std::clamp(factor, 0.1, last_failed ? 1.0 : 1.1);
+      dt *= factor;
+      last_failed = false;
+    }
+    dt = std::min(dt, 1.0 - t);
+  }
+  return 0.0;
+}
+
+void ForceChainModel::apex_flow(Point& y, const Tensor& strain) const {
+  // All the remaining strain is plastic separation at the stress-free apex; r_c follows the
+  // hardening law with that plastic strain (dilation and looser-than-critical shear soften).
+  y.stress.setZero();
+  y.plastic_strain += strain;
+  const double psi = critical_.state_parameter(y.void_ratio, 0.0);
+  const double exponent =
+      (strain.trace() + deviatoric_hardening(psi) * deviatoric_strain(strain)) / par_.b_p;
+  y.r_c *= std::exp(std::clamp(exponent, -700.0, 50.0));
+  y.void_ratio = (1.0 + y.void_ratio) * std::exp(-strain.trace()) - 1.0;
+}
+
+UpdateInfo ForceChainModel::update(ForceChainState& state, const Eigen::Matrix3d& strain_increment,
+                                   double /*dt*/, double granular_temperature) const {
+  if (!strain_increment.allFinite())
+    throw std::invalid_argument("force_chains: non-finite strain increment");
+  UpdateInfo info;
+  const double void_ratio_new =
+      std::max((1.0 + state.void_ratio) * std::exp(-strain_increment.trace()) - 1.0, 0.0);
+  const Tensor plastic_strain_old = state.plastic_strain;
+
+  if (!state.fluidized && state.r_c < par_.fluidization_size) {
+    state.fluidized = true;
+    info.became_fluid = true;
+  }
+  if (state.fluidized) {
+    // No enduring contacts: σ_FC = 0, χ frozen. Regrowth (docs/model/force_chains.md §5):
+    // dr_c = w(T) K_r <dε_v>, w(T) = max(0, 1 - T/T_r), only for e <= e_max.
+    const double w =
+        std::max(0.0, 1.0 - std::max(granular_temperature, 0.0) / par_.regrowth_temperature);
+    const double compaction = std::max(strain_increment.trace(), 0.0);
+    if (state.void_ratio <= par_.e_max && !info.became_fluid)
+      state.r_c += w * par_.regrowth_modulus * compaction;
+    else
+      state.r_c = 0.0;
+    state.stress.setZero();
+    state.plastic_strain += strain_increment;
+    state.void_ratio = void_ratio_new;
+    if (state.r_c >= par_.resolidification_size) {
+      state.fluidized = false;
+      info.resolidified = true;
+    }
+    info.yield_value = -kYieldClip;
+    info.plastic_volumetric_strain = strain_increment.trace();
+    return info;
+  }
+
+  Point y{state.stress, state.chi, state.plastic_strain, state.r_c, state.void_ratio};
+  Tensor remaining = strain_increment;
+  for (int pass = 0; pass < 3; ++pass) {
+    const double left = integrate(y, remaining, info);
+    if (y.r_c < par_.fluidization_size || left <= 0.0) break;
+    info.contact_loss = true;
+    y.stress.setZero();
+    remaining *= left;
+    if (remaining.trace() > 0.0 && pass < 2) continue;  // compaction: reload from the origin
+    apex_flow(y, remaining);
+    break;
+  }
+  state.chi = y.chi;
+  state.plastic_strain = y.plastic_strain;
+  state.void_ratio = void_ratio_new;
+  if (y.r_c < par_.fluidization_size) {
+    state.fluidized = true;
+    state.r_c = 0.0;
+    state.stress.setZero();
+    info.became_fluid = true;
+    info.yield_value = -kYieldClip;
+  } else {
+    state.r_c = y.r_c;
+    state.stress = y.stress;
+    info.yield_value = safe_yield(y.stress, y.chi, y.r_c);
+  }
+  info.plastic_volumetric_strain = (state.plastic_strain - plastic_strain_old).trace();
+  if (!(state.stress.allFinite() && state.chi.allFinite() && std::isfinite(state.r_c)))
+    throw std::runtime_error("force_chains: non-finite stress, axis or r_c after update");
+  return info;
+}
+
+}  // namespace granflow::model::force_chains

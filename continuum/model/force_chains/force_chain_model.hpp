@@ -1,0 +1,106 @@
+// The force-chain (σ_FC) strain-hardening elastic-plastic model of the multi-regime material
+// (docs/model.md §2, seed §3.1; equations and parameters in docs/model/force_chains.md).
+//
+// SIGN CONVENTION: everything in this folder is COMPRESSION-POSITIVE (soil mechanics): stress
+// σ > 0 in compression, strain increments > 0 in shortening, p = tr(σ)/3, ε_v = tr(ε). Convert
+// at the boundary (σ_tension-positive = -σ, dε_tension-positive = -dε).
+//
+// Ingredients: closed yield locus of di Prisco et al. (1993) of size r_c and axis χ; pressure-
+// dependent elasticity; Lade-Duncan critical state as attractor; state-dependent, Lode-angle-
+// independent dilatancy; isotropic hardening of r_c (softening under dilative plastic flow and
+// for looser-than-critical states); rotational hardening of χ; fluidization (r_c -> 0, σ_FC = 0,
+// χ frozen) and regrowth of r_c under compaction when the granular temperature is small.
+// Integration: modified-Euler explicit sub-stepping with local error control and yield-surface
+// drift correction (Sloan, Abbo & Sheng 2001). Value types, no allocation, no virtual calls.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "continuum/model/force_chains/critical_state_lade_duncan.hpp"
+#include "continuum/model/force_chains/dilatancy_state_dependent.hpp"
+#include "continuum/model/force_chains/elasticity_pressure_dependent.hpp"
+#include "continuum/model/force_chains/force_chain_parameters.hpp"
+#include "continuum/model/force_chains/stress_invariants.hpp"
+#include "continuum/model/force_chains/yield_function_diprisco.hpp"
+
+namespace granflow::model::force_chains {
+
+struct ForceChainState {
+  Eigen::Matrix3d stress = Eigen::Matrix3d::Zero();  // σ_FC, Pa, compression positive
+  Eigen::Matrix3d chi = Eigen::Matrix3d::Identity() / 1.7320508075688772;  // axis, |χ| = 1
+  double r_c = 0.0;         // locus size, Pa (0 when fluidized)
+  double void_ratio = 0.7;  // e, updated from the volumetric strain: 1+e ∝ exp(-ε_v)
+  Eigen::Matrix3d plastic_strain = Eigen::Matrix3d::Zero();  // accumulated ε^p (bookkeeping)
+  bool fluidized = false;  // true: no enduring contacts, σ_FC = 0
+};
+
+struct UpdateInfo {
+  bool plastic = false;       // some plastic flow happened
+  bool contact_loss = false;  // the stress path reached the stress-free apex
+  bool became_fluid = false;  // r_c fell below fluidization_size during this update
+  bool resolidified = false;  // regrowth brought r_c back to resolidification_size
+  int substeps = 0;           // accepted plastic sub-steps
+  int rejected_substeps = 0;  // rejected by the error control
+  double yield_value = 0.0;   // f at the end (dimensionless; <= yield_tolerance when solid)
+  double plastic_volumetric_strain = 0.0;  // Δε^p_v of this update
+};
+
+class ForceChainModel {
+ public:
+  explicit ForceChainModel(ForceChainParameters parameters);
+
+  // Strain increment (compression positive) over dt, with the granular temperature T (m²/s²)
+  // of the collisional part for the regrowth rule. dt only documents the rate: the model is
+  // rate independent.
+  UpdateInfo update(ForceChainState& state, const Eigen::Matrix3d& strain_increment, double dt,
+                    double granular_temperature) const;
+
+  // Isotropic state at mean stress p, void ratio e, isotropic axis, r_c = √3 p · ocr (ocr >= 1:
+  // the ratio of the locus size to the current stress on the axis).
+  ForceChainState isotropic_state(double p, double void_ratio, double ocr = 1.0) const;
+
+  // Diagnostics (not used in the hot path).
+  double yield_value(const ForceChainState& state) const;  // f; -1e3 at the stress-free origin
+  double dilatancy(const Eigen::Matrix3d& stress, double void_ratio) const;  // D = dε^p_v/dε^p_q
+  Eigen::Matrix3d flow_direction(const ForceChainState& state) const;        // unit m
+  double deviatoric_hardening(double state_parameter) const;                 // ξ(ψ)
+
+  const ForceChainParameters& parameters() const { return par_; }
+  const PressureDependentElasticity& elasticity() const { return elastic_; }
+  const YieldFunctionDiPrisco& yield_function() const { return yield_; }
+  const CriticalStateLadeDuncan& critical_state() const { return critical_; }
+  const DilatancyStateDependent& dilatancy_law() const { return dilatancy_; }
+
+ private:
+  struct Point {  // integration variables
+    Tensor stress, chi, plastic_strain;
+    double r_c, void_ratio;
+  };
+  struct Increment {
+    Tensor stress, chi, plastic_strain;
+    double r_c, void_ratio;
+    double plastic_multiplier;
+  };
+  struct PlasticRates {
+    Tensor n, m, stiffness_m, chi_rate;
+    double size_rate, denominator, value;
+  };
+
+  double safe_yield(const Tensor& stress, const Tensor& chi, double r_c) const;
+  PlasticRates plastic_rates(const Point& y) const;
+  Increment increment(const Point& y, const Tensor& strain, bool plastic) const;
+  void correct_drift(Point& y) const;
+  double elastic_fraction(const Point& y, const Tensor& strain, double f0) const;
+  // Integrates `strain` from y; returns the fraction of `strain` left when the stress path hits
+  // the stress-free apex (0 when the whole increment was integrated).
+  double integrate(Point& y, const Tensor& strain, UpdateInfo& info) const;
+  void apex_flow(Point& y, const Tensor& strain) const;
+
+  ForceChainParameters par_;
+  PressureDependentElasticity elastic_;
+  YieldFunctionDiPrisco yield_;
+  CriticalStateLadeDuncan critical_;
+  DilatancyStateDependent dilatancy_;
+};
+
+}  // namespace granflow::model::force_chains

@@ -1,0 +1,41 @@
+// Stress invariants in the soil-mechanics convention (compression positive, docs/model.md §0):
+// p = tr(σ)/3, s = σ - p I, q = sqrt(3/2 s:s), Lode angle through cos 3θ = (3√3/2) J3 / J2^{3/2}
+// with J2 = s:s/2 and J3 = det s, so that cos 3θ = +1 in triaxial compression (σ1 > σ2 = σ3)
+// and -1 in triaxial extension.
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+
+namespace granflow::model::force_chains {
+
+using Tensor = Eigen::Matrix3d;
+
+inline double double_contraction(const Tensor& a, const Tensor& b) {
+  return a.cwiseProduct(b).sum();
+}
+inline double mean_stress(const Tensor& stress) { return stress.trace() / 3.0; }
+inline Tensor deviator(const Tensor& t) { return t - (t.trace() / 3.0) * Tensor::Identity(); }
+inline double deviatoric_stress(const Tensor& stress) {
+  const Tensor s = deviator(stress);
+  return std::sqrt(1.5 * double_contraction(s, s));
+}
+// Equivalent deviatoric strain ε_q = sqrt(2/3 e:e), e = dev(ε) (work-conjugate of q).
+inline double deviatoric_strain(const Tensor& strain) {
+  const Tensor e = deviator(strain);
+  return std::sqrt(2.0 / 3.0 * double_contraction(e, e));
+}
+// cos 3θ of a deviator s; returns 1 (compression) when s vanishes, so that the callers get the
+// compression branch at the isotropic axis, where every Lode-dependent quantity is irrelevant.
+inline double lode_cos3theta(const Tensor& s) {
+  const double j2 = 0.5 * double_contraction(s, s);
+  if (!(j2 > 0.0)) return 1.0;
+  const double j3 = s(0, 0) * (s(1, 1) * s(2, 2) - s(1, 2) * s(2, 1)) -
+                    s(0, 1) * (s(1, 0) * s(2, 2) - s(1, 2) * s(2, 0)) +
+                    s(0, 2) * (s(1, 0) * s(2, 1) - s(1, 1) * s(2, 0));  // det s
+  const double c = 1.5 * std::sqrt(3.0) * j3 / (j2 * std::sqrt(j2));
+  return std::clamp(c, -1.0, 1.0);
+}
+
+}  // namespace granflow::model::force_chains

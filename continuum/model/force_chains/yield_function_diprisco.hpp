@@ -1,0 +1,64 @@
+// Closed yield locus of di Prisco, Nova & Lanier (1993), as documented with TOCHNOG (plasti.cc,
+// group_materi_plasti_diprisco), compression positive. χ is the unit axis of the locus
+// (|χ| = 1; isotropic axis I/√3):
+//   r = σ:χ,  s = σ - r χ,  η = √3 s / r,  J2η = η:η,  J3η = tr(η·η·η),
+//   f = A ln(r/r_c) - γ J3η + (9/4)(γ-1) J2η,   A = 3 β_f (γ-3).
+// f is dimensionless; f <= 0 inside. The locus passes through the origin (the stress-free state)
+// and crosses the axis χ at r = r_c.
+// Gradients (G_η = ∂f/∂η = -3γ η·η + (9/2)(γ-1) η):
+//   ∂f/∂σ   = A χ/r + (√3/r) [G_η - (G_η:σ/r) χ]
+//   ∂f/∂r_c = -A/r_c
+//   ∂f/∂χ   = A σ/r - √3 [(G_η:σ) σ/r² + G_η]
+#pragma once
+
+#include <cmath>
+
+#include "continuum/model/force_chains/force_chain_parameters.hpp"
+#include "continuum/model/force_chains/stress_invariants.hpp"
+
+namespace granflow::model::force_chains {
+
+struct YieldGradients {
+  double value;     // f
+  Tensor d_stress;  // ∂f/∂σ, 1/Pa
+  double d_size;    // ∂f/∂r_c, 1/Pa
+  Tensor d_axis;    // ∂f/∂χ, -
+};
+
+class YieldFunctionDiPrisco {
+ public:
+  explicit YieldFunctionDiPrisco(const ForceChainParameters& p)
+      : gamma_(p.gamma), a_(3.0 * p.beta_f * (p.gamma - 3.0)), c2_(2.25 * (p.gamma - 1.0)) {}
+
+  double log_coefficient() const { return a_; }
+
+  // f for r > 0 and r_c > 0 (the caller guarantees both; see ForceChainModel for r -> 0).
+  double value(const Tensor& stress, const Tensor& axis, double size) const {
+    const double r = double_contraction(stress, axis);
+    const Tensor eta = (std::sqrt(3.0) / r) * (stress - r * axis);
+    const Tensor eta2 = eta * eta;
+    return a_ * std::log(r / size) - gamma_ * double_contraction(eta2, eta) +
+           c2_ * double_contraction(eta, eta);
+  }
+
+  YieldGradients gradients(const Tensor& stress, const Tensor& axis, double size) const {
+    const double sqrt3 = std::sqrt(3.0);
+    const double r = double_contraction(stress, axis);
+    const Tensor eta = (sqrt3 / r) * (stress - r * axis);
+    const Tensor eta2 = eta * eta;
+    const Tensor g_eta = -3.0 * gamma_ * eta2 + 2.0 * c2_ * eta;
+    const double g_sigma = double_contraction(g_eta, stress);
+    YieldGradients g;
+    g.value = a_ * std::log(r / size) - gamma_ * double_contraction(eta2, eta) +
+              c2_ * double_contraction(eta, eta);
+    g.d_stress = (a_ / r) * axis + (sqrt3 / r) * (g_eta - (g_sigma / r) * axis);
+    g.d_size = -a_ / size;
+    g.d_axis = (a_ / r) * stress - sqrt3 * ((g_sigma / (r * r)) * stress + g_eta);
+    return g;
+  }
+
+ private:
+  double gamma_, a_, c2_;
+};
+
+}  // namespace granflow::model::force_chains
