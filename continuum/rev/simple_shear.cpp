@@ -86,8 +86,12 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
   if (constant_pressure)
     state.solid_fraction =
         solid_fraction_at_pressure(point, control.normal_stress, state.granular_temperature);
-
   result = SimpleShearResult{};
+  if (std::isnan(state.solid_fraction))
+    throw core::NumericalFailure(0, "REV point", "solid_fraction", state.solid_fraction,
+                                 "no solid fraction carries the imposed normal stress at the "
+                                 "initial temperature; raise initial.granular_temperature");
+
   auto& series = result.series;
   double time = 0, strain = 0;
   result.min_time_step = INFINITY;
