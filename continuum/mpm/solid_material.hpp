@@ -1,0 +1,76 @@
+// The interface through which a constitutive model updates the effective stress of solid points.
+// One call per step per material, over a contiguous range of points in SoA form, so the virtual
+// call is paid once per step, never per point. The multi-regime model plugs in here too: it keeps
+// its state variables (e, T, hardening ...) in its own arrays indexed by point - begin.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace granflow::mpm {
+
+// Views of the solid-point arrays a stress update reads and writes (tension-positive stresses).
+struct StressUpdateView {
+  const double* Lxx;  // velocity gradient ∂v_x/∂x ...
+  const double* Lxy;
+  const double* Lyx;
+  const double* Lyy;
+  const double* porosity;  // current n
+  double* temperature;     // T (a model with a T equation updates it)
+  double* sxx;
+  double* syy;
+  double* szz;
+  double* sxy;
+};
+
+class SolidMaterial {
+ public:
+  virtual ~SolidMaterial() = default;
+  virtual const std::string& name() const = 0;
+  virtual double grain_density() const = 0;  // ρ_s, kg/m³
+  // Largest constrained (P-wave) modulus the material can have now, Pa (for the CFL limit).
+  virtual double p_wave_modulus() const = 0;
+  // Called once when the points [begin, end) are assigned to the material.
+  virtual void attach(std::size_t begin, std::size_t end) {
+    begin_ = begin;
+    end_ = end;
+  }
+  // Update the stress of all its points for a step dt, given L at the points.
+  virtual void update_stress(const StressUpdateView& view, double dt) = 0;
+  std::size_t begin() const { return begin_; }
+  std::size_t end() const { return end_; }
+
+ protected:
+  std::size_t begin_ = 0, end_ = 0;
+};
+
+// Parameters of a material as given in the case file (SI, by key).
+using MaterialParameters = std::map<std::string, double>;
+
+// A small registry by name: name -> factory. Built explicitly (no global state).
+class MaterialRegistry {
+ public:
+  using Factory = std::function<std::unique_ptr<SolidMaterial>(const MaterialParameters&)>;
+  void add(std::string name, std::vector<std::string> parameter_names, Factory factory);
+  // Throws std::invalid_argument naming the valid materials / the missing parameter.
+  std::unique_ptr<SolidMaterial> create(const std::string& name,
+                                        const MaterialParameters& parameters) const;
+  std::vector<std::string> names() const;
+  const std::vector<std::string>& parameter_names(const std::string& name) const;
+
+ private:
+  struct Entry {
+    std::vector<std::string> parameter_names;
+    Factory factory;
+  };
+  std::map<std::string, Entry> entries_;
+};
+
+// Registry with every solid material the MPM knows (linear_elastic for now).
+MaterialRegistry default_material_registry();
+
+}  // namespace granflow::mpm

@@ -1,0 +1,771 @@
+#include "continuum/mpm/solver.hpp"
+
+#include <fmt/format.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+namespace granflow::mpm {
+
+namespace {
+// Nodal accumulators of the first map, field-major (field k of node a at k * nodes + a). Solid
+// fields first, so a dry run reduces only those.
+enum Field : int { MS, PXS, PYS, FXS, FYS, NMS, ML, PXL, PYL, FXL, FYL, GLX, GLY, CD, NF };
+constexpr int solid_fields = 6;
+// Accumulators of the MUSL momentum remap (reuse the first fields of the same buffer).
+enum RemapField : int { R_MS, R_PXS, R_PYS, R_ML, R_PXL, R_PYL };
+
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+inline double sign(double v) { return v > 0.0 ? 1.0 : (v < 0.0 ? -1.0 : 0.0); }
+}  // namespace
+
+double TimeStepLimits::critical() const { return std::min({wave, viscous, drag}); }
+
+SolverFailure::SolverFailure(long s, std::string pt, std::string var, double v,
+                             const std::string& why)
+    : std::runtime_error(fmt::format("step {}: {} {} = {}: {}", s, pt, var, v, why)),
+      step(s),
+      point(std::move(pt)),
+      variable(std::move(var)),
+      value(v) {}
+
+Solver::Solver(Grid grid, SolverOptions options, LiquidOptions liquid)
+    : grid_(std::move(grid)), options_(options), liquid_options_(liquid) {
+  if (options_.shape == ShapeKind::gimp && std::holds_alternative<PolarGrid>(grid_)) {
+    throw std::invalid_argument("GIMP shape functions need a Cartesian grid");
+  }
+  if (options_.shape == ShapeKind::gimp) {
+    const auto& g = std::get<CartesianGrid>(grid_);
+    if (!(options_.gimp_half_length_x > 0 && options_.gimp_half_length_x <= 0.5 * g.hx() &&
+          options_.gimp_half_length_y > 0 && options_.gimp_half_length_y <= 0.5 * g.hy())) {
+      throw std::invalid_argument("GIMP half-lengths must be in (0, h/2]");
+    }
+  }
+  if (!(options_.flip >= 0.0 && options_.flip <= 1.0)) {
+    throw std::invalid_argument("flip fraction must be in [0, 1]");
+  }
+  if (!(options_.local_damping >= 0.0 && options_.local_damping < 1.0)) {
+    throw std::invalid_argument("local damping must be in [0, 1)");
+  }
+  if (!(options_.mass_scaling >= 1.0)) throw std::invalid_argument("mass scaling must be >= 1");
+  nn_ = grid_nodes();
+  for (auto& c : conditions_) {
+    c.mask.assign(nn_, 0);
+    c.frame.assign(nn_, 0);
+    c.value0.assign(nn_, 0.0);
+    c.value1.assign(nn_, 0.0);
+    c.ramp.assign(nn_, 0.0);
+  }
+}
+
+int Solver::grid_nodes() const {
+  return std::visit([](const auto& g) { return g.nodes(); }, grid_);
+}
+
+double Solver::node_angle(int n) const {
+  return std::visit([n](const auto& g) { return g.node_angle(n); }, grid_);
+}
+
+int Solver::add_material(std::unique_ptr<SolidMaterial> material) {
+  materials_.push_back(std::move(material));
+  return static_cast<int>(materials_.size()) - 1;
+}
+
+void Solver::fix_velocity(Phase phase, int node, Frame frame, int component, double value,
+                          double ramp_time) {
+  if (node < 0 || node >= nn_ || component < 0 || component > 1) {
+    throw std::invalid_argument("fix_velocity: node or component out of range");
+  }
+  if (frame == Frame::polar && !std::holds_alternative<PolarGrid>(grid_)) {
+    throw std::invalid_argument("(r, θ) velocity conditions need a polar grid");
+  }
+  auto& c = conditions_[static_cast<int>(phase)];
+  if (c.mask[node] != 0 && c.frame[node] != static_cast<std::uint8_t>(frame)) {
+    throw std::invalid_argument("fix_velocity: a node's conditions must share one frame");
+  }
+  if (c.mask[node] == 0) c.list.push_back(node);
+  c.mask[node] |= static_cast<std::uint8_t>(1u << component);
+  c.frame[node] = static_cast<std::uint8_t>(frame);
+  (component == 0 ? c.value0 : c.value1)[node] = value;
+  c.ramp[node] = ramp_time;
+}
+
+void Solver::initialize() {
+  threads_ = options_.threads > 0 ? options_.threads : omp_get_max_threads();
+  acc_.assign(static_cast<std::size_t>(NF) * nn_, 0.0);
+  if (threads_ > 1) scratch_.assign(static_cast<std::size_t>(NF) * nn_ * threads_, 0.0);
+  for (auto* v : {&asx_, &asy_, &alx_, &aly_}) v->assign(nn_, 0.0);
+  porosity_.assign(nn_, 1.0);
+  for (auto* v : {&nodes_.mass_solid, &nodes_.mass_liquid, &nodes_.vx_solid, &nodes_.vy_solid,
+                  &nodes_.vx_liquid, &nodes_.vy_liquid}) {
+    v->assign(nn_, 0.0);
+  }
+  nodes_.porosity.assign(nn_, 1.0);
+  div_solid_.assign(liquid_.size(), 0.0);
+
+  // Material ranges: contiguous runs of the same index.
+  const std::size_t ns = solid_.size();
+  if (ns > 0 && materials_.empty()) throw std::invalid_argument("solid points but no material");
+  std::vector<std::size_t> first(materials_.size(), ns), last(materials_.size(), 0);
+  for (std::size_t p = 0; p < ns; ++p) {
+    const int k = solid_.material[p];
+    if (k < 0 || k >= materials()) throw std::invalid_argument("solid point with bad material");
+    first[k] = std::min(first[k], p);
+    last[k] = std::max(last[k], p + 1);
+  }
+  for (int k = 0; k < materials(); ++k) {
+    if (first[k] >= last[k]) {
+      materials_[k]->attach(0, 0);
+      continue;
+    }
+    for (std::size_t p = first[k]; p < last[k]; ++p) {
+      if (solid_.material[p] != k) {
+        throw std::invalid_argument("solid points of one material must be contiguous");
+      }
+    }
+    materials_[k]->attach(first[k], last[k]);
+  }
+  double max_mass = 0;
+  for (double m : solid_.mass) max_mass = std::max(max_mass, m);
+  for (double m : liquid_.mass) max_mass = std::max(max_mass, m);
+  mass_floor_ = 1e-12 * max_mass;  // nodes lighter than this carry no velocity (round-off)
+  // Porosity of solid points from their solid volume; drag of liquid points from the nodes.
+  for (std::size_t p = 0; p < ns; ++p) {
+    solid_.porosity[p] = 1.0 - solid_.solid_volume[p] / solid_.volume[p];
+  }
+  initialized_ = true;
+  // One porosity map so that the liquid points see n (and β) before the first step.
+  if (liquid_.size() > 0) {
+    std::visit(
+        [&](const auto& g) {
+          using G = std::decay_t<decltype(g)>;
+          if constexpr (std::is_same_v<G, CartesianGrid>) {
+            if (options_.shape == ShapeKind::gimp) {
+              map_first<G, ShapeKind::gimp>(g);
+              solve_porosity_only();
+              velocity_gradients<G, ShapeKind::gimp>(g, true);
+              return;
+            }
+          }
+          map_first<G, ShapeKind::linear>(g);
+          solve_porosity_only();
+          velocity_gradients<G, ShapeKind::linear>(g, true);
+        },
+        grid_);
+    refresh_liquid_state();
+  }
+  update_dt();
+}
+
+TimeStepLimits Solver::compute_limits() const {
+  TimeStepLimits lim{inf, inf, inf};
+  const double h = std::visit([](const auto& g) { return g.min_spacing(); }, grid_);
+  const double s = options_.mass_scaling;
+  const bool wet = liquid_.size() > 0;
+  const double rho_w = liquid_options_.density, K = liquid_options_.bulk_modulus;
+  double max_speed = 0;
+  double rho_s_min = inf;
+  for (const auto& m : materials_) {
+    const double M = m->p_wave_modulus(), rho_s = m->grain_density();
+    rho_s_min = std::min(rho_s_min, rho_s);
+    for (std::size_t p = m->begin(); p < m->end(); ++p) {
+      const double n = solid_.porosity[p];
+      double c2 = M / ((1.0 - n) * rho_s);  // drained (dry) P wave
+      if (wet) {  // undrained P wave of the mixture (Biot's fast wave, no relative motion)
+        c2 = std::max(c2, (M + K / n) / ((1.0 - n) * rho_s + n * rho_w));
+      }
+      const double v = std::hypot(solid_.vx[p], solid_.vy[p]);
+      max_speed = std::max(max_speed, std::sqrt(c2 / s) + v);
+    }
+  }
+  double max_eta = 0, max_beta = 0, n_of_max_beta = 1;
+  for (std::size_t p = 0; p < liquid_.size(); ++p) {
+    const double v = std::hypot(liquid_.vx[p], liquid_.vy[p]);
+    max_speed = std::max(max_speed, std::sqrt(K / (rho_w * s)) + v);  // sound in the liquid
+    max_eta = std::max(max_eta, viscosity_at(1.0 - liquid_.porosity[p]));
+    if (liquid_.drag[p] > max_beta) {
+      max_beta = liquid_.drag[p];
+      n_of_max_beta = liquid_.porosity[p];
+    }
+  }
+  if (max_speed > 0) lim.wave = h / max_speed;
+  // Explicit viscous diffusion in 2D: η dt / (ρ h²) <= 1/4.
+  if (max_eta > 0) lim.viscous = 0.25 * h * h * rho_w * s / max_eta;
+  // Explicit drag: two masses coupled by β, dt < 2 / (β (1/(n ρ_w) + 1/((1-n) ρ_s))).
+  if (max_beta > 0 && options_.drag_integration == DragIntegration::explicit_euler &&
+      n_of_max_beta < 1.0) {
+    lim.drag =
+        2.0 * s /
+        (max_beta * (1.0 / (n_of_max_beta * rho_w) + 1.0 / ((1.0 - n_of_max_beta) * rho_s_min)));
+  }
+  return lim;
+}
+
+void Solver::update_dt() {
+  limits_ = compute_limits();
+  const double critical = limits_.critical();
+  if (options_.fixed_dt > 0) {
+    dt_ = options_.fixed_dt;
+  } else {
+    if (!std::isfinite(critical)) {
+      throw SolverFailure(step_, "all points", "dt", critical,
+                          "no wave speed to set the time step (give a fixed dt)");
+    }
+    dt_ = options_.cfl_factor * critical;
+  }
+}
+
+double Solver::viscosity_at(double nu) const {
+  if (liquid_options_.viscosity_law == ViscosityLaw::constant) return liquid_options_.viscosity;
+  return model::mixture_viscosity(liquid_options_.closure, std::max(nu, 0.0));
+}
+
+double Solver::drag_at(double n) const {
+  if (n >= 1.0 - 1e-12) return 0.0;  // no solid: nothing to drag against
+  if (liquid_options_.drag_law == DragLaw::darcy) {
+    // Darcy: n (v_L - v_S) = -(k_D/γ_w) ∇p  =>  β = n² γ_w / k_D
+    return n * n * liquid_options_.density * liquid_options_.darcy_gravity /
+           liquid_options_.hydraulic_conductivity;
+  }
+  return model::drag_coefficient(liquid_options_.closure, liquid_options_.grain_diameter, 1.0 - n);
+}
+
+// ---- the step ---------------------------------------------------------------------------------
+
+void Solver::step() {
+  if (!initialized_) throw std::logic_error("Solver::initialize() must be called before step()");
+  std::visit(
+      [&](const auto& g) {
+        using G = std::decay_t<decltype(g)>;
+        if constexpr (std::is_same_v<G, CartesianGrid>) {
+          if (options_.shape == ShapeKind::gimp) {
+            step_impl<G, ShapeKind::gimp>(g);
+            return;
+          }
+        }
+        step_impl<G, ShapeKind::linear>(g);
+      },
+      grid_);
+}
+
+template <class G, ShapeKind S>
+void Solver::step_impl(const G& grid) {
+  map_first<G, S>(grid);
+  solve_nodes();
+  update_points<G, S>(grid);
+  if (options_.scheme == UpdateScheme::musl) {
+    remap_momentum<G, S>(grid);
+    velocity_gradients<G, S>(grid, liquid_.size() > 0);
+  }
+  constitutive_update();
+  time_ += dt_;
+  ++step_;
+  if (options_.dt_update_interval > 0 && step_ % options_.dt_update_interval == 0) update_dt();
+}
+
+// Run `body(acc, t, T)` on every thread with its own zeroed accumulator of `fields` fields, then
+// sum the per-thread accumulators into acc_ in thread order (deterministic for a thread count).
+template <class Body>
+void Solver::scatter(int fields, Body&& body) {
+  const std::size_t size = static_cast<std::size_t>(fields) * nn_;
+  if (threads_ == 1) {
+    std::fill(acc_.begin(), acc_.begin() + size, 0.0);
+    body(acc_.data(), 0, 1);
+    return;
+  }
+  const std::size_t stride = static_cast<std::size_t>(NF) * nn_;
+#pragma omp parallel num_threads(threads_)
+  {
+    const int t = omp_get_thread_num();
+    double* mine = scratch_.data() + stride * t;
+    std::fill(mine, mine + size, 0.0);
+    body(mine, t, threads_);
+#pragma omp barrier
+#pragma omp for schedule(static)
+    for (std::size_t k = 0; k < size; ++k) {
+      double sum = 0.0;
+      for (int u = 0; u < threads_; ++u) sum += scratch_[stride * u + k];
+      acc_[k] = sum;
+    }
+  }
+}
+
+namespace {
+inline void chunk(std::size_t n, int t, int T, std::size_t& b, std::size_t& e) {
+  b = n * t / T;
+  e = n * (t + 1) / T;
+}
+}  // namespace
+
+template <class G, ShapeKind S>
+void Solver::map_first(const G& grid) {
+  const bool wet = liquid_.size() > 0;
+  const int nn = nn_;
+  const double s = options_.mass_scaling, gx = options_.gravity_x, gy = options_.gravity_y;
+  const double lx = options_.gimp_half_length_x, ly = options_.gimp_half_length_y;
+  std::atomic<long> lost_solid{-1}, lost_liquid{-1};
+  scatter(wet ? NF : solid_fields, [&](double* acc, int t, int T) {
+    double* ms = acc + MS * nn;
+    double* pxs = acc + PXS * nn;
+    double* pys = acc + PYS * nn;
+    double* fxs = acc + FXS * nn;
+    double* fys = acc + FYS * nn;
+    double* nms = acc + NMS * nn;
+    std::size_t b, e;
+    chunk(solid_.size(), t, T, b, e);
+    const SolidPoints& sp = solid_;
+    Stencil st{};
+    for (std::size_t p = b; p < e; ++p) {
+      if (!grid.template stencil<S>(sp.x[p], sp.y[p], lx, ly, st)) {
+        lost_solid = static_cast<long>(p);
+        continue;
+      }
+      const double m = sp.mass[p], mi = m * s, V = sp.volume[p];
+      const double mvx = mi * sp.vx[p], mvy = mi * sp.vy[p], mn = m * sp.porosity[p];
+      const double fx = m * gx + sp.fx_ext[p], fy = m * gy + sp.fy_ext[p];
+      const double sxx = sp.sxx[p] * V, syy = sp.syy[p] * V, sxy = sp.sxy[p] * V;
+      for (int k = 0; k < st.count; ++k) {
+        const int a = st.node[k];
+        const double N = st.N[k], dx = st.dNdx[k], dy = st.dNdy[k];
+        ms[a] += N * mi;
+        pxs[a] += N * mvx;
+        pys[a] += N * mvy;
+        // f_int = -∫ ∇N · σ' dV ; f_ext = N (m g + point load)
+        fxs[a] += N * fx - (dx * sxx + dy * sxy);
+        fys[a] += N * fy - (dx * sxy + dy * syy);
+        nms[a] += N * mn;
+      }
+    }
+    if (!wet) return;
+    double* ml = acc + ML * nn;
+    double* pxl = acc + PXL * nn;
+    double* pyl = acc + PYL * nn;
+    double* fxl = acc + FXL * nn;
+    double* fyl = acc + FYL * nn;
+    double* glx = acc + GLX * nn;
+    double* gly = acc + GLY * nn;
+    double* cd = acc + CD * nn;
+    const LiquidPoints& lp = liquid_;
+    chunk(lp.size(), t, T, b, e);
+    for (std::size_t p = b; p < e; ++p) {
+      if (!grid.template stencil<S>(lp.x[p], lp.y[p], lx, ly, st)) {
+        lost_liquid = static_cast<long>(p);
+        continue;
+      }
+      const double m = lp.mass[p], mi = m * s, V = lp.volume[p];
+      const double mvx = mi * lp.vx[p], mvy = mi * lp.vy[p];
+      const double fx = m * gx + lp.fx_ext[p], fy = m * gy + lp.fy_ext[p];
+      // Liquid stress σ_L = -p I + τ acting on the mixture volume V of the point.
+      const double sxx = (lp.txx[p] - lp.pressure[p]) * V, syy = (lp.tyy[p] - lp.pressure[p]) * V,
+                   sxy = lp.txy[p] * V;
+      const double beta_V = lp.drag[p] * V;
+      for (int k = 0; k < st.count; ++k) {
+        const int a = st.node[k];
+        const double N = st.N[k], dx = st.dNdx[k], dy = st.dNdy[k];
+        ml[a] += N * mi;
+        pxl[a] += N * mvx;
+        pyl[a] += N * mvy;
+        fxl[a] += N * fx;
+        fyl[a] += N * fy;
+        glx[a] -= dx * sxx + dy * sxy;
+        gly[a] -= dx * sxy + dy * syy;
+        cd[a] += N * beta_V;
+      }
+    }
+  });
+  if (lost_solid >= 0) lost_point(Phase::solid, lost_solid);
+  if (lost_liquid >= 0) lost_point(Phase::liquid, lost_liquid);
+}
+
+void Solver::lost_point(Phase phase, long index) const {
+  const PointFields& p = phase == Phase::solid ? static_cast<const PointFields&>(solid_)
+                                               : static_cast<const PointFields&>(liquid_);
+  throw SolverFailure(
+      step_,
+      fmt::format("{} point {} at ({}, {})", phase == Phase::solid ? "solid" : "liquid", index,
+                  p.x[index], p.y[index]),
+      "position", p.x[index], "left the background grid (lost point)");
+}
+
+void Solver::solve_porosity_only() {
+  const double s = options_.mass_scaling;
+  for (int a = 0; a < nn_; ++a) {
+    const double m = acc_[MS * nn_ + a] / s;
+    porosity_[a] = m > mass_floor_ ? std::clamp(acc_[NMS * nn_ + a] / m, 0.0, 1.0) : 1.0;
+  }
+}
+
+void Solver::solve_nodes() {
+  const bool wet = liquid_.size() > 0;
+  const int nn = nn_;
+  const double dt = dt_, s = options_.mass_scaling, alpha = options_.local_damping;
+  const double floor = mass_floor_ * s;
+  const bool implicit_drag = options_.drag_integration == DragIntegration::semi_implicit;
+  double* A = acc_.data();
+  NodeFields& out = nodes_;
+#pragma omp parallel for schedule(static) num_threads(threads_)
+  for (int a = 0; a < nn; ++a) {
+    const double ms = A[MS * nn + a];
+    const double n = ms > floor ? std::clamp(A[NMS * nn + a] / (ms / s), 0.0, 1.0) : 1.0;
+    porosity_[a] = n;
+    out.porosity[a] = n;
+    out.mass_solid[a] = ms / s;
+    double fxs = A[FXS * nn + a], fys = A[FYS * nn + a];
+    const double vxs0 = ms > floor ? A[PXS * nn + a] / ms : 0.0;
+    const double vys0 = ms > floor ? A[PYS * nn + a] / ms : 0.0;
+    if (!wet) {
+      if (alpha > 0) {  // Cundall local damping: f -= α |f| sign(v)
+        fxs -= alpha * std::fabs(fxs) * sign(vxs0);
+        fys -= alpha * std::fabs(fys) * sign(vys0);
+      }
+      if (ms > floor) {
+        out.vx_solid[a] = vxs0 + dt * fxs / ms;
+        out.vy_solid[a] = vys0 + dt * fys / ms;
+        asx_[a] = fxs / ms;
+        asy_[a] = fys / ms;
+      } else {
+        out.vx_solid[a] = out.vy_solid[a] = asx_[a] = asy_[a] = 0.0;
+      }
+      continue;
+    }
+    const double ml = A[ML * nn + a];
+    out.mass_liquid[a] = ml / s;
+    const double vxl0 = ml > floor ? A[PXL * nn + a] / ml : 0.0;
+    const double vyl0 = ml > floor ? A[PYL * nn + a] / ml : 0.0;
+    double fxl = A[FXL * nn + a], fyl = A[FYL * nn + a];
+    // Liquid-stress force shared by volume fraction: n to the liquid, (1 - n) to the solid
+    // (this carries the buoyancy/interaction term p ∇n; see docs/mpm.md).
+    const double glx = A[GLX * nn + a], gly = A[GLY * nn + a];
+    if (ms > floor) {
+      fxl += n * glx;
+      fyl += n * gly;
+      fxs += (1.0 - n) * glx;
+      fys += (1.0 - n) * gly;
+    } else {
+      fxl += glx;
+      fyl += gly;
+    }
+    if (alpha > 0) {
+      fxs -= alpha * std::fabs(fxs) * sign(vxs0);
+      fys -= alpha * std::fabs(fys) * sign(vys0);
+      fxl -= alpha * std::fabs(fxl) * sign(vxl0);
+      fyl -= alpha * std::fabs(fyl) * sign(vyl0);
+    }
+    double vxs, vys, vxl, vyl;
+    const double C = A[CD * nn + a];
+    if (ms > floor && ml > floor && C > 0) {
+      if (implicit_drag) {
+        // Backward Euler in the drag only: with P = m v + dt f per phase, the relative velocity
+        // w = v_L - v_S solves w (1 + dt C (1/m_L + 1/m_S)) = P_L/m_L - P_S/m_S, and the total
+        // momentum P_L + P_S is kept exactly.
+        const double Psx = ms * vxs0 + dt * fxs, Psy = ms * vys0 + dt * fys;
+        const double Plx = ml * vxl0 + dt * fxl, Ply = ml * vyl0 + dt * fyl;
+        const double k = 1.0 / (1.0 + dt * C * (1.0 / ml + 1.0 / ms));
+        const double wx = (Plx / ml - Psx / ms) * k, wy = (Ply / ml - Psy / ms) * k;
+        vxs = (Psx + Plx - ml * wx) / (ms + ml);
+        vys = (Psy + Ply - ml * wy) / (ms + ml);
+        vxl = vxs + wx;
+        vyl = vys + wy;
+      } else {
+        const double dx = C * (vxl0 - vxs0), dy = C * (vyl0 - vys0);
+        vxs = vxs0 + dt * (fxs + dx) / ms;
+        vys = vys0 + dt * (fys + dy) / ms;
+        vxl = vxl0 + dt * (fxl - dx) / ml;
+        vyl = vyl0 + dt * (fyl - dy) / ml;
+      }
+    } else {
+      vxs = ms > floor ? vxs0 + dt * fxs / ms : 0.0;
+      vys = ms > floor ? vys0 + dt * fys / ms : 0.0;
+      vxl = ml > floor ? vxl0 + dt * fxl / ml : 0.0;
+      vyl = ml > floor ? vyl0 + dt * fyl / ml : 0.0;
+    }
+    out.vx_solid[a] = vxs;
+    out.vy_solid[a] = vys;
+    out.vx_liquid[a] = vxl;
+    out.vy_liquid[a] = vyl;
+    asx_[a] = (vxs - vxs0) / dt;
+    asy_[a] = (vys - vys0) / dt;
+    alx_[a] = (vxl - vxl0) / dt;
+    aly_[a] = (vyl - vyl0) / dt;
+  }
+  // Velocity conditions at t + dt; the acceleration follows the prescribed velocity.
+  for (int phase = 0; phase < (wet ? 2 : 1); ++phase) {
+    double* vx = phase == 0 ? out.vx_solid.data() : out.vx_liquid.data();
+    double* vy = phase == 0 ? out.vy_solid.data() : out.vy_liquid.data();
+    double* ax = phase == 0 ? asx_.data() : alx_.data();
+    double* ay = phase == 0 ? asy_.data() : aly_.data();
+    const int fm = phase == 0 ? MS : ML, fpx = phase == 0 ? PXS : PXL, fpy = phase == 0 ? PYS : PYL;
+    apply_conditions(static_cast<Phase>(phase), vx, vy);
+    for (int a : conditions_[phase].list) {
+      const double m = A[fm * nn + a];
+      const double v0x = m > floor ? A[fpx * nn + a] / m : 0.0;
+      const double v0y = m > floor ? A[fpy * nn + a] / m : 0.0;
+      ax[a] = (vx[a] - v0x) / dt;
+      ay[a] = (vy[a] - v0y) / dt;
+    }
+  }
+}
+
+void Solver::apply_conditions(Phase phase, double* vx, double* vy) const {
+  const auto& c = conditions_[static_cast<int>(phase)];
+  const double t = time_ + dt_;
+  for (int a : c.list) {
+    const double f = c.ramp[a] > 0 ? std::min(1.0, t / c.ramp[a]) : 1.0;
+    if (c.frame[a] == static_cast<std::uint8_t>(Frame::xy)) {
+      if (c.mask[a] & 1u) vx[a] = f * c.value0[a];
+      if (c.mask[a] & 2u) vy[a] = f * c.value1[a];
+    } else {
+      const double th = node_angle(a), cs = std::cos(th), sn = std::sin(th);
+      double vr = vx[a] * cs + vy[a] * sn, vt = -vx[a] * sn + vy[a] * cs;
+      if (c.mask[a] & 1u) vr = f * c.value0[a];
+      if (c.mask[a] & 2u) vt = f * c.value1[a];
+      vx[a] = vr * cs - vt * sn;
+      vy[a] = vr * sn + vt * cs;
+    }
+  }
+}
+
+template <class G, ShapeKind S>
+void Solver::update_points(const G& grid) {
+  const double dt = dt_, flip = options_.flip;
+  const double lx = options_.gimp_half_length_x, ly = options_.gimp_half_length_y;
+  const bool usl = options_.scheme == UpdateScheme::usl;
+  const bool wet = liquid_.size() > 0;
+  auto g2p = [&](PointFields& pts, const double* vx, const double* vy, const double* ax,
+                 const double* ay, bool extras) {
+    const long n = static_cast<long>(pts.size());
+#pragma omp parallel num_threads(threads_)
+    {
+      Stencil st{};
+#pragma omp for schedule(static)
+      for (long p = 0; p < n; ++p) {
+        if (!grid.template stencil<S>(pts.x[p], pts.y[p], lx, ly, st)) continue;  // caught in map
+        double vpx = 0, vpy = 0, apx = 0, apy = 0, Lxx = 0, Lxy = 0, Lyx = 0, Lyy = 0;
+        double div_s = 0, n_at = 0;
+        for (int k = 0; k < st.count; ++k) {
+          const int a = st.node[k];
+          const double N = st.N[k];
+          vpx += N * vx[a];
+          vpy += N * vy[a];
+          apx += N * ax[a];
+          apy += N * ay[a];
+          if (usl) {
+            Lxx += st.dNdx[k] * vx[a];
+            Lxy += st.dNdy[k] * vx[a];
+            Lyx += st.dNdx[k] * vy[a];
+            Lyy += st.dNdy[k] * vy[a];
+            if (extras) {
+              div_s += st.dNdx[k] * nodes_.vx_solid[a] + st.dNdy[k] * nodes_.vy_solid[a];
+              n_at += N * porosity_[a];
+            }
+          }
+        }
+        // FLIP/PIC blend: v <- flip (v + dt a) + (1 - flip) v_PIC; x <- x + dt v_PIC
+        pts.vx[p] = flip * (pts.vx[p] + dt * apx) + (1.0 - flip) * vpx;
+        pts.vy[p] = flip * (pts.vy[p] + dt * apy) + (1.0 - flip) * vpy;
+        pts.x[p] += dt * vpx;
+        pts.y[p] += dt * vpy;
+        if (usl) {
+          pts.Lxx[p] = Lxx;
+          pts.Lxy[p] = Lxy;
+          pts.Lyx[p] = Lyx;
+          pts.Lyy[p] = Lyy;
+          if (extras) {
+            div_solid_[p] = div_s;
+            liquid_.porosity[p] = std::clamp(n_at, 1e-3, 1.0);
+          }
+        }
+      }
+    }
+  };
+  g2p(solid_, nodes_.vx_solid.data(), nodes_.vy_solid.data(), asx_.data(), asy_.data(), false);
+  if (wet) {
+    g2p(liquid_, nodes_.vx_liquid.data(), nodes_.vy_liquid.data(), alx_.data(), aly_.data(), true);
+  }
+}
+
+template <class G, ShapeKind S>
+void Solver::remap_momentum(const G& grid) {
+  const bool wet = liquid_.size() > 0;
+  const int nn = nn_;
+  const double s = options_.mass_scaling;
+  const double lx = options_.gimp_half_length_x, ly = options_.gimp_half_length_y;
+  std::atomic<long> lost_solid{-1}, lost_liquid{-1};
+  scatter(wet ? 6 : 3, [&](double* acc, int t, int T) {
+    auto map = [&](const PointFields& pts, double* m_, double* px_, double* py_,
+                   std::atomic<long>& lost) {
+      std::size_t b, e;
+      chunk(pts.size(), t, T, b, e);
+      Stencil st{};
+      for (std::size_t p = b; p < e; ++p) {
+        if (!grid.template stencil<S>(pts.x[p], pts.y[p], lx, ly, st)) {
+          lost = static_cast<long>(p);
+          continue;
+        }
+        const double mi = pts.mass[p] * s, mvx = mi * pts.vx[p], mvy = mi * pts.vy[p];
+        for (int k = 0; k < st.count; ++k) {
+          const int a = st.node[k];
+          m_[a] += st.N[k] * mi;
+          px_[a] += st.N[k] * mvx;
+          py_[a] += st.N[k] * mvy;
+        }
+      }
+    };
+    map(solid_, acc + R_MS * nn, acc + R_PXS * nn, acc + R_PYS * nn, lost_solid);
+    if (wet) map(liquid_, acc + R_ML * nn, acc + R_PXL * nn, acc + R_PYL * nn, lost_liquid);
+  });
+  if (lost_solid >= 0) lost_point(Phase::solid, lost_solid);
+  if (lost_liquid >= 0) lost_point(Phase::liquid, lost_liquid);
+  const double floor = mass_floor_ * s;
+  const double* A = acc_.data();
+  NodeFields& out = nodes_;
+#pragma omp parallel for schedule(static) num_threads(threads_)
+  for (int a = 0; a < nn; ++a) {
+    const double ms = A[R_MS * nn + a];
+    out.vx_solid[a] = ms > floor ? A[R_PXS * nn + a] / ms : 0.0;
+    out.vy_solid[a] = ms > floor ? A[R_PYS * nn + a] / ms : 0.0;
+    if (wet) {
+      const double ml = A[R_ML * nn + a];
+      out.vx_liquid[a] = ml > floor ? A[R_PXL * nn + a] / ml : 0.0;
+      out.vy_liquid[a] = ml > floor ? A[R_PYL * nn + a] / ml : 0.0;
+    }
+  }
+  apply_conditions(Phase::solid, out.vx_solid.data(), out.vy_solid.data());
+  if (wet) apply_conditions(Phase::liquid, out.vx_liquid.data(), out.vy_liquid.data());
+}
+
+template <class G, ShapeKind S>
+void Solver::velocity_gradients(const G& grid, bool liquid_extras) {
+  const double lx = options_.gimp_half_length_x, ly = options_.gimp_half_length_y;
+  auto grad = [&](PointFields& pts, const double* vx, const double* vy, bool extras) {
+    const long n = static_cast<long>(pts.size());
+#pragma omp parallel num_threads(threads_)
+    {
+      Stencil st{};
+#pragma omp for schedule(static)
+      for (long p = 0; p < n; ++p) {
+        if (!grid.template stencil<S>(pts.x[p], pts.y[p], lx, ly, st)) continue;
+        double Lxx = 0, Lxy = 0, Lyx = 0, Lyy = 0, div_s = 0, n_at = 0;
+        for (int k = 0; k < st.count; ++k) {
+          const int a = st.node[k];
+          Lxx += st.dNdx[k] * vx[a];
+          Lxy += st.dNdy[k] * vx[a];
+          Lyx += st.dNdx[k] * vy[a];
+          Lyy += st.dNdy[k] * vy[a];
+          if (extras) {
+            div_s += st.dNdx[k] * nodes_.vx_solid[a] + st.dNdy[k] * nodes_.vy_solid[a];
+            n_at += st.N[k] * porosity_[a];
+          }
+        }
+        pts.Lxx[p] = Lxx;
+        pts.Lxy[p] = Lxy;
+        pts.Lyx[p] = Lyx;
+        pts.Lyy[p] = Lyy;
+        if (extras) {
+          div_solid_[p] = div_s;
+          liquid_.porosity[p] = std::clamp(n_at, 1e-3, 1.0);
+        }
+      }
+    }
+  };
+  grad(solid_, nodes_.vx_solid.data(), nodes_.vy_solid.data(), false);
+  if (liquid_.size() > 0) {
+    grad(liquid_, nodes_.vx_liquid.data(), nodes_.vy_liquid.data(), liquid_extras);
+  }
+}
+
+void Solver::refresh_liquid_state() {
+  // Volume, viscous stress and drag of the liquid points from p, n and L (no time increment).
+  const double K = liquid_options_.bulk_modulus, rho0 = liquid_options_.density;
+  for (std::size_t p = 0; p < liquid_.size(); ++p) {
+    const double n = liquid_.porosity[p];
+    liquid_.volume[p] = liquid_.mass[p] / (n * rho0 * std::exp(liquid_.pressure[p] / K));
+    liquid_.drag[p] = drag_at(n);
+  }
+}
+
+void Solver::constitutive_update() {
+  const double dt = dt_;
+  // Solid: one call per material over its range, then volume and porosity.
+  StressUpdateView view{solid_.Lxx.data(), solid_.Lxy.data(),      solid_.Lyx.data(),
+                        solid_.Lyy.data(), solid_.porosity.data(), solid_.temperature.data(),
+                        solid_.sxx.data(), solid_.syy.data(),      solid_.szz.data(),
+                        solid_.sxy.data()};
+  for (auto& m : materials_) m->update_stress(view, dt);
+  const long ns = static_cast<long>(solid_.size());
+  long bad_solid = -1;
+#pragma omp parallel for schedule(static) num_threads(threads_) reduction(max : bad_solid)
+  for (long p = 0; p < ns; ++p) {
+    // dV/V = tr(D) dt (plane strain); grains incompressible: n = 1 - V_s / V.
+    solid_.volume[p] *= 1.0 + dt * (solid_.Lxx[p] + solid_.Lyy[p]);
+    solid_.porosity[p] = 1.0 - solid_.solid_volume[p] / solid_.volume[p];
+    const double check = solid_.sxx[p] + solid_.syy[p] + solid_.sxy[p] + solid_.vx[p] +
+                         solid_.vy[p] + solid_.x[p] + solid_.y[p];
+    if (!std::isfinite(check) || !(solid_.volume[p] > 0.0)) bad_solid = std::max(bad_solid, p);
+  }
+  if (bad_solid >= 0) {
+    const long p = bad_solid;
+    const bool bad_volume = !(solid_.volume[p] > 0);
+    const bool bad_stress = !std::isfinite(solid_.sxx[p] + solid_.syy[p] + solid_.sxy[p]);
+    const char* var = bad_volume ? "volume" : bad_stress ? "stress" : "velocity/position";
+    const double val = bad_volume ? solid_.volume[p] : bad_stress ? solid_.sxx[p] : solid_.vx[p];
+    throw SolverFailure(step_ + 1, fmt::format("solid point {}", p), var, val,
+                        "non-finite or non-positive value");
+  }
+  const long nl = static_cast<long>(liquid_.size());
+  if (nl == 0) return;
+  const double K = liquid_options_.bulk_modulus, rho0 = liquid_options_.density;
+  const bool viscous = liquid_options_.viscosity > 0.0;
+  long bad_liquid = -1;
+#pragma omp parallel for schedule(static) num_threads(threads_) reduction(max : bad_liquid)
+  for (long p = 0; p < nl; ++p) {
+    const double n = liquid_.porosity[p];
+    const double tr_l = liquid_.Lxx[p] + liquid_.Lyy[p];
+    // Storage equation of the double-point formulation (incompressible grains):
+    //   dp = -(K_w / n) [ n tr(D_L) + (1 - n) tr(D_S) ] dt
+    liquid_.pressure[p] -= dt * (K / n) * (n * tr_l + (1.0 - n) * div_solid_[p]);
+    // Mixture volume the point stands for: V = m / (n ρ_w), ρ_w = ρ_w0 exp(p / K_w).
+    liquid_.volume[p] = liquid_.mass[p] / (n * rho0 * std::exp(liquid_.pressure[p] / K));
+    if (viscous) {
+      const double eta = viscosity_at(1.0 - n);
+      const double third = tr_l / 3.0;
+      liquid_.txx[p] = 2.0 * eta * (liquid_.Lxx[p] - third);
+      liquid_.tyy[p] = 2.0 * eta * (liquid_.Lyy[p] - third);
+      liquid_.tzz[p] = -2.0 * eta * third;
+      liquid_.txy[p] = eta * (liquid_.Lxy[p] + liquid_.Lyx[p]);
+    }
+    liquid_.drag[p] = drag_at(n);
+    const double check = liquid_.pressure[p] + liquid_.txy[p] + liquid_.vx[p] + liquid_.vy[p] +
+                         liquid_.x[p] + liquid_.y[p];
+    if (!std::isfinite(check)) bad_liquid = std::max(bad_liquid, p);
+  }
+  if (bad_liquid >= 0) {
+    throw SolverFailure(step_ + 1, fmt::format("liquid point {}", bad_liquid), "pressure",
+                        liquid_.pressure[bad_liquid], "non-finite value");
+  }
+}
+
+// ---- diagnostics ------------------------------------------------------------------------------
+
+double Solver::total_mass(Phase phase) const {
+  const auto& m = phase == Phase::solid ? solid_.mass : liquid_.mass;
+  double sum = 0;
+  for (double v : m) sum += v;
+  return sum;
+}
+
+void Solver::total_momentum(Phase phase, double& px, double& py) const {
+  const PointFields& p = phase == Phase::solid ? static_cast<const PointFields&>(solid_)
+                                               : static_cast<const PointFields&>(liquid_);
+  px = py = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    px += p.mass[i] * p.vx[i];
+    py += p.mass[i] * p.vy[i];
+  }
+}
+
+}  // namespace granflow::mpm

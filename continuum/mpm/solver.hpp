@@ -1,0 +1,186 @@
+// Explicit two-phase double-point MPM in 2D plane strain (docs/mpm.md has the algorithm, the
+// equations and their sources). Solid points carry the effective stress σ' of a registered
+// material; liquid points carry the pore pressure p of a compressible liquid (bulk modulus K_w)
+// and a viscous stress 2 η(ν) dev D_L. Momentum is balanced per phase on the nodes, with drag and
+// the pressure-gradient (buoyancy) interaction split by the nodal porosity. A run with no liquid
+// points runs the same code and skips every liquid loop.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "continuum/model/closures.hpp"
+#include "continuum/mpm/cartesian_grid.hpp"
+#include "continuum/mpm/material_points.hpp"
+#include "continuum/mpm/polar_grid.hpp"
+#include "continuum/mpm/solid_material.hpp"
+
+namespace granflow::mpm {
+
+enum class UpdateScheme { usl, musl };  // stress update last / modified USL (Sulsky et al. 1995)
+enum class DragIntegration { semi_implicit, explicit_euler };
+enum class DragLaw { darcy, closure };          // β = n² ρ_w g / k_D, or model::drag_coefficient
+enum class ViscosityLaw { constant, mixture };  // η0, or model::mixture_viscosity(ν)
+enum class Phase { solid, liquid };
+enum class Frame { xy, polar };  // velocity conditions in (x, y) or (r, θ) components
+
+struct LiquidOptions {
+  double density = 1000.0;      // ρ_w at p = 0, kg/m³
+  double bulk_modulus = 2.2e9;  // K_w, Pa (a reduced value is a reported modelling choice)
+  double viscosity = 0.0;       // η0, Pa s (Newtonian part; 0 = inviscid)
+  ViscosityLaw viscosity_law = ViscosityLaw::constant;
+  DragLaw drag_law = DragLaw::darcy;
+  double hydraulic_conductivity = 1e-3;  // k_D for the Darcy law, m/s
+  double darcy_gravity = 9.81;           // g in γ_w = ρ_w g of the Darcy law, m/s²
+  model::LiquidParameters closure;       // for DragLaw::closure / ViscosityLaw::mixture
+  double grain_diameter = 1e-3;          // d of the closures, m
+};
+
+struct SolverOptions {
+  ShapeKind shape = ShapeKind::linear;
+  UpdateScheme scheme = UpdateScheme::musl;
+  double flip = 1.0;           // FLIP fraction of the point velocity update (1 FLIP, 0 PIC)
+  double local_damping = 0.0;  // Cundall local damping coefficient α in [0, 1)
+  double gravity_x = 0.0, gravity_y = 0.0;  // m/s²
+  double cfl_factor = 0.5;                  // dt = factor x min(critical steps)
+  double fixed_dt = 0.0;                    // > 0: use this dt (the critical one is still reported)
+  double mass_scaling = 1.0;  // inertial masses x this factor (gravity keeps the true mass)
+  DragIntegration drag_integration = DragIntegration::semi_implicit;
+  double gimp_half_length_x = 0.0, gimp_half_length_y = 0.0;  // GIMP particle half-sizes, m
+  long dt_update_interval = 50;  // recompute the critical step every so many steps
+  int threads = 0;               // 0: OpenMP default
+};
+
+// Critical time steps (before the CFL factor) of each mechanism, s; +inf when absent.
+struct TimeStepLimits {
+  double wave = 0, viscous = 0, drag = 0;
+  double critical() const;
+};
+
+// A numerical failure inside the solver, naming step, point and variable.
+class SolverFailure : public std::runtime_error {
+ public:
+  SolverFailure(long step, std::string point, std::string variable, double value,
+                const std::string& why);
+  long step;
+  std::string point, variable;
+  double value;
+};
+
+using Grid = std::variant<CartesianGrid, PolarGrid>;
+
+// Nodal fields of the last step (for output and tests).
+struct NodeFields {
+  std::vector<double> mass_solid, mass_liquid;  // true (unscaled) nodal masses, kg per m
+  std::vector<double> vx_solid, vy_solid, vx_liquid, vy_liquid;  // m/s
+  std::vector<double> porosity;
+};
+
+class Solver {
+ public:
+  Solver(Grid grid, SolverOptions options, LiquidOptions liquid = {});
+
+  const Grid& grid() const { return grid_; }
+  const SolverOptions& options() const { return options_; }
+  const LiquidOptions& liquid_options() const { return liquid_options_; }
+  SolidPoints& solid() { return solid_; }
+  LiquidPoints& liquid() { return liquid_; }
+  const SolidPoints& solid() const { return solid_; }
+  const LiquidPoints& liquid() const { return liquid_; }
+
+  // Materials: solid points with material index k must be contiguous; initialize() checks it.
+  int add_material(std::unique_ptr<SolidMaterial> material);
+  const SolidMaterial& material(int k) const { return *materials_[k]; }
+  int materials() const { return static_cast<int>(materials_.size()); }
+
+  // Prescribe a velocity component (0: x or r, 1: y or θ) of a phase at a node, reaching
+  // `value` linearly over `ramp_time` (0: at once).
+  void fix_velocity(Phase phase, int node, Frame frame, int component, double value,
+                    double ramp_time = 0.0);
+
+  // After the points are filled: checks, material ranges, porosity, drag, the time step.
+  void initialize();
+  void step();
+  void run_steps(long n) {
+    for (long i = 0; i < n; ++i) step();
+  }
+
+  double dt() const { return dt_; }
+  double time() const { return time_; }
+  long steps() const { return step_; }
+  const TimeStepLimits& limits() const { return limits_; }
+  const NodeFields& nodes() const { return nodes_; }
+  int threads() const { return threads_; }
+
+  // Diagnostics.
+  double total_mass(Phase phase) const;
+  void total_momentum(Phase phase, double& px, double& py) const;
+  int grid_nodes() const;
+
+  // Restart: the state that is not in the point arrays.
+  void set_clock(double time, long step, double dt) {
+    time_ = time;
+    step_ = step;
+    dt_ = dt;
+  }
+
+ private:
+  template <class G, ShapeKind S>
+  void step_impl(const G& grid);
+  template <class G, ShapeKind S>
+  void map_first(const G& grid);
+  void solve_nodes();
+  template <class G, ShapeKind S>
+  void update_points(const G& grid);
+  template <class G, ShapeKind S>
+  void remap_momentum(const G& grid);
+  template <class G, ShapeKind S>
+  void velocity_gradients(const G& grid, bool liquid_extras);
+  void constitutive_update();
+  template <class Body>
+  void scatter(int fields, Body&& body);
+  void solve_porosity_only();
+  void refresh_liquid_state();
+  double viscosity_at(double nu) const;  // η(ν)
+  double drag_at(double n) const;        // β(n)
+  void apply_conditions(Phase phase, double* vx, double* vy) const;
+  TimeStepLimits compute_limits() const;
+  void update_dt();
+  double node_angle(int n) const;
+  [[noreturn]] void lost_point(Phase phase, long index) const;
+
+  Grid grid_;
+  SolverOptions options_;
+  LiquidOptions liquid_options_;
+  SolidPoints solid_;
+  LiquidPoints liquid_;
+  std::vector<std::unique_ptr<SolidMaterial>> materials_;
+
+  struct Conditions {
+    std::vector<std::uint8_t> mask;  // bit c: component c fixed
+    std::vector<std::uint8_t> frame;
+    std::vector<double> value0, value1, ramp;
+    std::vector<int> list;  // nodes with a condition
+  } conditions_[2];
+
+  int nn_ = 0;
+  int threads_ = 1;
+  std::vector<double> acc_;      // reduced nodal accumulators, field-major
+  std::vector<double> scratch_;  // per-thread accumulators (threads > 1)
+  // nodal solution
+  std::vector<double> asx_, asy_, alx_, aly_, porosity_;
+  std::vector<double> div_solid_;  // tr(D_S) at the liquid points
+  NodeFields nodes_;
+
+  double dt_ = 0, time_ = 0;
+  long step_ = 0;
+  TimeStepLimits limits_;
+  double mass_floor_ = 0;
+  bool initialized_ = false;
+};
+
+}  // namespace granflow::mpm
