@@ -42,7 +42,7 @@ double relative_difference(double a, double b) { return std::fabs(a - b) / std::
 // Homogeneous steady simple shear with L = d: the production τ γ̇ balances Γ at
 // T = (f2/f3) d² γ̇², and then τ/p = sqrt(f2 f3)/f1 and I = (f1 f2/f3)^(-1/2). The closed forms
 // are evaluated independently of the pressure/viscosity/dissipation functions.
-TEST(SteadySimpleShear, ClosedFormsAgreeWithIndividualClosures) {
+TEST(ClosuresSteadySimpleShear, ClosedFormsAgreeWithIndividualClosures) {
   for (const auto& p : all_collisional_options()) {
     for (double nu : {1e-4, 0.05, 0.3, 0.49, 0.55, 0.58}) {
       for (double shear_rate : {1e-3, 1.0, 1e3}) {
@@ -72,7 +72,7 @@ TEST(SteadySimpleShear, ClosedFormsAgreeWithIndividualClosures) {
 // Dilute limit of the viscosity with e_r = 1: Chapman-Enskog (5 √π / 96) ρ_p d T^½. The
 // deviation is O(ν) (g0 - 1 ≈ 2.5ν and the 1/G expansion of J), so it must shrink ~10x per
 // decade of ν.
-TEST(DiluteLimits, ChapmanEnskogViscosity) {
+TEST(ClosuresDiluteLimits, ChapmanEnskogViscosity) {
   gm::CollisionalParameters p;
   p.restitution = 1.0;
   p.effective_restitution = gm::EffectiveRestitutionKind::restitution;
@@ -89,7 +89,7 @@ TEST(DiluteLimits, ChapmanEnskogViscosity) {
   }
 }
 
-TEST(DiluteLimits, PressureCoefficientTendsToSolidFraction) {
+TEST(ClosuresDiluteLimits, PressureCoefficientTendsToSolidFraction) {
   for (const auto& p : all_collisional_options()) {
     for (double nu : {1e-5, 1e-6, 1e-7}) {
       const auto c = gm::collisional_coefficients(p, nu);
@@ -102,7 +102,7 @@ TEST(DiluteLimits, PressureCoefficientTendsToSolidFraction) {
 
 // Dilute elastic conductivity: Chapman-Enskog first Sonine approximation
 // k = (75/64) k_B/d² (k_B T/(π m))^½, i.e. (25 √π / 128) ρ_p d T^½ in granular units.
-TEST(DiluteLimits, ChapmanEnskogConductivity) {
+TEST(ClosuresDiluteLimits, ChapmanEnskogConductivity) {
   gm::CollisionalParameters p;
   p.restitution = 1.0;
   p.effective_restitution = gm::EffectiveRestitutionKind::restitution;
@@ -119,7 +119,7 @@ TEST(DiluteLimits, ChapmanEnskogConductivity) {
 
 // Dense elastic limit of f4: Enskog's conductivity (Chapman & Cowling, first approximation)
 // (25 √π/128) [(1 + 12G/5)²/g0 + (512/(25π)) ν G], a different algebraic path from M.
-TEST(DenseElastic, ConductivityEqualsEnskog) {
+TEST(ClosuresDenseElastic, ConductivityEqualsEnskog) {
   for (auto g0_kind : {gm::RadialDistributionKind::carnahan_starling,
                        gm::RadialDistributionKind::chialvo_sundaresan}) {
     gm::CollisionalParameters p;
@@ -139,7 +139,7 @@ TEST(DenseElastic, ConductivityEqualsEnskog) {
 // Independent re-derivation of f2 and f4 from Garzó & Dufty (1999) in their own variables
 // (as implemented in MFiX GT_PDE_GD, with c* = 0): η* = η_k*(1 + (4/5)φχ(1+e)) + (3/5)γ*,
 // κ* = κ_k*(1 + (6/5)φχ(1+e)) + (256/25π)φ²χ(1+e); f2 = (5√π/96) η*, f4 = (25√π/128) κ*.
-TEST(GarzoDufty1999, TransportCoefficientsMatchTheirOwnForm) {
+TEST(ClosuresGarzoDufty1999, TransportCoefficientsMatchTheirOwnForm) {
   for (const auto& p : all_collisional_options()) {
     for (double nu : {0.001, 0.1, 0.3, 0.5, 0.57}) {
       const auto c = gm::collisional_coefficients(p, nu);
@@ -178,7 +178,7 @@ TEST(GarzoDufty1999, TransportCoefficientsMatchTheirOwnForm) {
 }
 
 // Published values of g0.
-TEST(RadialDistribution, PublishedValues) {
+TEST(ClosuresRadialDistribution, PublishedValues) {
   // Carnahan-Starling at ν = 0.5: (1 - 0.25)/0.125 = 6 exactly.
   EXPECT_DOUBLE_EQ(gm::g0_carnahan_starling(0.5), 6.0);
   // Torquato: equals Carnahan-Starling up to freezing 0.49, continuous there, simple pole at ν_c
@@ -200,7 +200,7 @@ TEST(RadialDistribution, PublishedValues) {
 }
 
 // Chialvo & Sundaresan (2013) effective restitution: largest reduction 1/(2e) at μ_p = 1/3.
-TEST(EffectiveRestitution, ChialvoSundaresanFrictionCorrection) {
+TEST(ClosuresEffectiveRestitution, ChialvoSundaresanFrictionCorrection) {
   gm::CollisionalParameters p;
   p.restitution = 0.9;
   p.particle_friction = 1.0 / 3.0;
@@ -216,7 +216,7 @@ TEST(EffectiveRestitution, ChialvoSundaresanFrictionCorrection) {
 }
 
 // Jenkins correlation length: L = d max(1, a/T^½), and Γ with L folded in is finite at T = 0.
-TEST(CorrelationLength, JenkinsFormAndDissipation) {
+TEST(ClosuresCorrelationLength, JenkinsFormAndDissipation) {
   gm::CollisionalParameters p;
   p.correlation_length = gm::CorrelationLengthKind::jenkins;
   const auto c = gm::collisional_coefficients(p, 0.55);

@@ -43,7 +43,7 @@ std::vector<gm::CollisionalParameters> singular_options() {
 
 }  // namespace
 
-TEST(SingularClosures, CollisionalFiniteAndMonotoneUpToJamming) {
+TEST(ClosuresSingular, CollisionalFiniteAndMonotoneUpToJamming) {
   for (const auto& p : singular_options()) {
     const double nu_c = gm::maximum_solid_fraction(p);
     EXPECT_EQ(nu_c, p.jamming_fraction);  // every option, Carnahan-Starling included
@@ -78,7 +78,7 @@ TEST(SingularClosures, CollisionalFiniteAndMonotoneUpToJamming) {
   }
 }
 
-TEST(SingularClosures, BadJammingFractionRefused) {
+TEST(ClosuresSingular, BadJammingFractionRefused) {
   gm::CollisionalParameters p;
   p.radial_distribution = gm::RadialDistributionKind::torquato;
   p.jamming_fraction = 0.45;  // below Torquato's freezing point 0.49
@@ -88,7 +88,7 @@ TEST(SingularClosures, BadJammingFractionRefused) {
   EXPECT_THROW(gm::collisional_coefficients(p, 0.3), std::invalid_argument);
 }
 
-TEST(SingularClosures, MixtureViscosityFiniteAndMonotoneUpToMaximumPacking) {
+TEST(ClosuresSingular, MixtureViscosityFiniteAndMonotoneUpToMaximumPacking) {
   for (auto kind : {gm::MixtureViscosityKind::krieger_dougherty, gm::MixtureViscosityKind::boyer}) {
     gm::LiquidParameters l;
     l.mixture_viscosity = kind;
@@ -111,7 +111,7 @@ TEST(SingularClosures, MixtureViscosityFiniteAndMonotoneUpToMaximumPacking) {
   EXPECT_THROW(gm::mixture_viscosity(einstein, 1.0), std::domain_error);
 }
 
-TEST(SingularClosures, PermeabilityDomain) {
+TEST(ClosuresSingular, PermeabilityDomain) {
   gm::LiquidParameters l;
   for (double nu : {0.0, 1.0, -0.1, 1.5}) {
     EXPECT_THROW(gm::permeability(l, 1e-3, nu), std::domain_error) << "nu=" << nu;
@@ -135,7 +135,7 @@ TEST(SingularClosures, PermeabilityDomain) {
 }
 
 // No NaN/Inf for ν in (1e-6, ν_c - 1e-12), T in [0, 1e3], γ̇ in [0, 1e4], every option.
-TEST(SingularClosures, NoNaNOverTheWholeDomain) {
+TEST(ClosuresSingular, NoNaNOverTheWholeDomain) {
   for (auto p : singular_options()) {
     for (auto L_kind : {gm::CorrelationLengthKind::diameter, gm::CorrelationLengthKind::jenkins}) {
       p.correlation_length = L_kind;

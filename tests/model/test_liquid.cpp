@@ -13,7 +13,7 @@ constexpr double pi = std::numbers::pi;
 double relative_difference(double a, double b) { return std::fabs(a - b) / std::fabs(b); }
 }  // namespace
 
-TEST(MixtureViscosity, EinsteinIsLinear) {
+TEST(ClosuresMixtureViscosity, EinsteinIsLinear) {
   gm::LiquidParameters l;
   l.mixture_viscosity = gm::MixtureViscosityKind::einstein;
   for (double nu : {0.0, 0.1, 0.3, 0.6}) {
@@ -23,7 +23,7 @@ TEST(MixtureViscosity, EinsteinIsLinear) {
 
 // Krieger-Dougherty and Boyer reduce to Einstein to first order in ν:
 // (η/η0 - 1)/ν -> 2.5, with an O(ν) second-order remainder (coefficient < 6 for ν_m ≈ 0.585).
-TEST(MixtureViscosity, KriegerDoughertyAndBoyerReduceToEinstein) {
+TEST(ClosuresMixtureViscosity, KriegerDoughertyAndBoyerReduceToEinstein) {
   for (auto kind : {gm::MixtureViscosityKind::krieger_dougherty, gm::MixtureViscosityKind::boyer}) {
     gm::LiquidParameters l;
     l.mixture_viscosity = kind;
@@ -39,7 +39,7 @@ TEST(MixtureViscosity, KriegerDoughertyAndBoyerReduceToEinstein) {
 
 // Seed Eq. 26 as printed (void ratio e) and the van der Hoef form A² d²/(18 ν F(ν)) with
 // ν = 1/(1+e): two independent expressions of the same permeability.
-TEST(Permeability, SeedEq26EqualsVanDerHoefForm) {
+TEST(ClosuresPermeability, SeedEq26EqualsVanDerHoefForm) {
   for (double sphericity : {1.0, 0.8}) {
     gm::LiquidParameters l;
     l.sphericity = sphericity;
@@ -58,7 +58,7 @@ TEST(Permeability, SeedEq26EqualsVanDerHoefForm) {
 }
 
 // β = η0 n / κ, and the per-particle coefficient is β × (volume per particle) = β π d³/(6ν).
-TEST(Drag, CoefficientsAreConsistentForAllCorrelations) {
+TEST(ClosuresDrag, CoefficientsAreConsistentForAllCorrelations) {
   for (auto kind : {gm::PermeabilityKind::seed_eq26, gm::PermeabilityKind::kozeny_carman,
                     gm::PermeabilityKind::ergun}) {
     gm::LiquidParameters l;
@@ -77,7 +77,7 @@ TEST(Drag, CoefficientsAreConsistentForAllCorrelations) {
 
 // DEM consistency: the per-particle drag of seed Eq. 26 is 3π η0 d (1-ν) F(ν)/A², i.e. Stokes
 // drag 3π η0 d as ν -> 0 (F - 1 ≈ 1.5 √ν).
-TEST(Drag, ParticleDragTendsToStokes) {
+TEST(ClosuresDrag, ParticleDragTendsToStokes) {
   gm::LiquidParameters l;
   const double d = 5e-4;
   const double stokes = 3.0 * pi * l.viscosity * d;
@@ -91,7 +91,7 @@ TEST(Drag, ParticleDragTendsToStokes) {
 
 // Ergun: Darcy part in κ plus the Forchheimer term reproduce the classic Ergun pressure gradient
 // 150 η0 ν² U/(A² d² n³) + 1.75 ρ_L ν U²/(A d n³) with U = n |u_L - u_G|.
-TEST(Permeability, ErgunViscousPlusInertialEqualsErgunEquation) {
+TEST(ClosuresPermeability, ErgunViscousPlusInertialEqualsErgunEquation) {
   gm::LiquidParameters l;
   l.permeability = gm::PermeabilityKind::ergun;
   l.sphericity = 0.9;
@@ -120,7 +120,7 @@ TEST(Permeability, ErgunViscousPlusInertialEqualsErgunEquation) {
 }
 
 // R_diss -> 1 as ν -> 0, led by Koch & Sangani's 3 (ν/2)^½ term.
-TEST(DissipationResistance, DiluteLimit) {
+TEST(ClosuresDissipationResistance, DiluteLimit) {
   EXPECT_EQ(gm::dissipation_resistance(0.0, 1.0), 1.0);
   for (double nu : {1e-6, 1e-8, 1e-10}) {
     const double g0 = gm::g0_carnahan_starling(nu);
@@ -132,7 +132,7 @@ TEST(DissipationResistance, DiluteLimit) {
 
 // Λ as ν -> 0 is the Stokes-drag dissipation of the fluctuation energy: 3 × (3π η0 d per grain)
 // × (number density 6ν/(π d³)) × T. Second path: the DEM per-particle drag coefficient.
-TEST(LiquidFluctuationDissipation, DiluteLimitIsStokesDrag) {
+TEST(ClosuresLiquidFluctuationDissipation, DiluteLimitIsStokesDrag) {
   gm::LiquidParameters l;
   const double d = 1e-3, T = 0.3;
   for (double nu : {1e-6, 1e-8, 1e-10}) {

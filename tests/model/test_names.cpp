@@ -29,7 +29,7 @@ void check_round_trip_and_refusal(const std::vector<std::string>& names, Parse p
 }
 }  // namespace
 
-TEST(ClosureNames, RoundTripAndRefusal) {
+TEST(ClosuresNames, RoundTripAndRefusal) {
   check_round_trip_and_refusal<gm::RadialDistributionKind>(gm::radial_distribution_names(),
                                                            gm::parse_radial_distribution);
   check_round_trip_and_refusal<gm::EffectiveRestitutionKind>(gm::effective_restitution_names(),
@@ -42,7 +42,7 @@ TEST(ClosureNames, RoundTripAndRefusal) {
                                                      gm::parse_permeability);
 }
 
-TEST(ClosureNames, EnumCountsMatchNameLists) {
+TEST(ClosuresNames, EnumCountsMatchNameLists) {
   // The last enumerator must be the last name: a name list shorter than the enum would make
   // the cast in parse_* reach a value without a name.
   EXPECT_EQ(gm::parse_radial_distribution(gm::radial_distribution_names().back()),
