@@ -81,7 +81,7 @@ CollisionalCoefficients collisional_coefficients(const CollisionalParameters& p,
 double effective_restitution(const CollisionalParameters& p);  // ε
 // g0(ν) of the chosen option, no range check (collisional_coefficients() checks).
 double radial_distribution(const CollisionalParameters& p, double nu);
-// L, m (≥ d). Jenkins' L is unbounded at T = 0 with γ̇ ≠ 0: returns +infinity there (Γ = 0).
+// L, m (≥ d). Jenkins' L is unbounded at T = 0 or ε = 1 with γ̇ ≠ 0: +infinity there (Γ = 0).
 double correlation_length(const CollisionalParameters& p, const CollisionalCoefficients& c,
                           double shear_rate, double T);  // L, m (≥ d)
 double collisional_pressure(const CollisionalParameters& p, const CollisionalCoefficients& c,

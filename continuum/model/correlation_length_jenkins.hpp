@@ -15,12 +15,14 @@ namespace granflow::model {
 // a = c [2J/(15(1-ε²))]^{1/2} d |γ̇| (m/s): L/d = max(1, a / T^{1/2}).
 inline double jenkins_correlation_speed(double constant, double J, double effective_restitution,
                                         double diameter, double shear_rate) {
+  if (shear_rate == 0.0) return 0.0;  // also avoids ∞ · 0 when ε = 1
   const double inelasticity = 1.0 - effective_restitution * effective_restitution;
   return constant * std::sqrt(2.0 * J / (15.0 * inelasticity)) * diameter * std::fabs(shear_rate);
 }
 
 // L (m). At T = 0 with γ̇ ≠ 0 the length is unbounded: returns +infinity (the dissipation is
 // then zero; use collisional_dissipation_at_shear_rate() for an expression finite at T = 0).
+// Likewise +infinity for ε = 1 and γ̇ ≠ 0 (elastic: f3 = 0, so Γ = 0 whatever L).
 inline double correlation_length_jenkins(double constant, double J, double effective_restitution,
                                          double diameter, double shear_rate, double T) {
   const double speed =

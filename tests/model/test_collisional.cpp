@@ -239,3 +239,25 @@ TEST(ClosuresCorrelationLength, JenkinsFormAndDissipation) {
   p.correlation_length = gm::CorrelationLengthKind::diameter;
   EXPECT_EQ(gm::correlation_length(p, c, shear_rate, 1e-12), p.diameter);
 }
+
+// Elastic frictionless grains (ε = 1, f3 = 0) with Jenkins' L: no dissipation and no NaN, at
+// rest (γ̇ = 0, where a naive ∞ · 0 would give NaN) and sheared (L = ∞ documented).
+TEST(ClosuresCorrelationLength, ElasticGrainsGiveNoNaN) {
+  gm::CollisionalParameters p;
+  p.restitution = 1.0;
+  p.particle_friction = 0.0;
+  p.correlation_length = gm::CorrelationLengthKind::jenkins;
+  const auto c = gm::collisional_coefficients(p, 0.5);
+  ASSERT_EQ(c.epsilon, 1.0);
+  for (double shear_rate : {0.0, 5.0}) {
+    for (double T : {0.0, 1e-3}) {
+      EXPECT_EQ(gm::collisional_dissipation_at_shear_rate(p, c, shear_rate, T), 0.0);
+      const double L = gm::correlation_length(p, c, shear_rate, T);
+      EXPECT_FALSE(std::isnan(L));
+      EXPECT_EQ(gm::collisional_dissipation(p, c, T, L), 0.0);
+      if (shear_rate == 0.0) {
+        EXPECT_EQ(L, p.diameter);
+      }
+    }
+  }
+}
