@@ -2,13 +2,13 @@
 //   granflow run CASE.yaml [--out DIR] [--set key.path=value]... [--force]
 //   granflow check CASE.yaml [--set ...]
 //   granflow schema [--markdown]
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <optional>
-
-#include <CLI/CLI.hpp>
-#include <fmt/format.h>
 
 #include "app/registry.hpp"
 #include "core/case.hpp"
@@ -44,7 +44,8 @@ std::string schema_reference(const core::KindRegistry& registry) {
       "varying slowest. Any key can be overridden on the command line with\n"
       "`--set key.path=value`, validated like the file.\n\n";
   for (const auto& e : registry.entries()) {
-    std::string title = "`kind: " + e.kind + "`" + (e.test.empty() ? "" : ", `test: " + e.test + "`");
+    std::string title =
+        "`kind: " + e.kind + "`" + (e.test.empty() ? "" : ", `test: " + e.test + "`");
     text += core::schema_markdown(e.schema, title);
     if (!e.example.empty()) text += "Example: `" + e.example + "`\n\n";
   }
@@ -60,7 +61,8 @@ int main(int argc, char** argv) {
   cli.require_subcommand(1);
   std::string kinds;
   for (const auto& e : registry.entries())
-    kinds += fmt::format("  {:<28} {}\n", e.kind + (e.test.empty() ? "" : " / " + e.test), e.summary);
+    kinds +=
+        fmt::format("  {:<28} {}\n", e.kind + (e.test.empty() ? "" : " / " + e.test), e.summary);
   cli.footer(
       "Examples:\n"
       "  granflow run cases/rev/simple_shear_dry.yaml\n"
@@ -68,7 +70,8 @@ int main(int argc, char** argv) {
       "  granflow run cases/rev/simple_shear_sweep.yaml --force\n"
       "  granflow check cases/rev/simple_shear_wet.yaml\n"
       "  granflow schema --markdown > docs/cases.md\n\n"
-      "Case kinds (kind / test):\n" + kinds +
+      "Case kinds (kind / test):\n" +
+      kinds +
       "\nExit codes: 0 ok, 1 internal error, 2 bad input (file:line, key path, expectation),\n"
       "3 numerical failure (step, point, variable; data written so far is kept), 4 external\n"
       "program failed (LIGGGHTS).");
@@ -113,8 +116,9 @@ int main(int argc, char** argv) {
 
   if (check->parsed()) {
     const auto conditions = c.expand_sweep();
-    std::cout << fmt::format("{}: valid {} case '{}'{}\n", case_file, c.kind(), c.name(),
-                             c.is_sweep() ? fmt::format(" ({} conditions)", conditions.size()) : "");
+    std::cout << fmt::format(
+        "{}: valid {} case '{}'{}\n", case_file, c.kind(), c.name(),
+        c.is_sweep() ? fmt::format(" ({} conditions)", conditions.size()) : "");
     return core::exit_ok;
   }
 

@@ -1,12 +1,12 @@
 #include "core/case.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <functional>
 #include <sstream>
-
-#include <fmt/format.h>
 
 namespace granflow::core {
 namespace {
@@ -82,8 +82,8 @@ struct Validator {
 
   [[noreturn]] void fail(const std::string& path, const YAML::Node& node,
                          const std::string& problem) const {
-    throw CaseError(fmt::format("{}: {}: {}", where(path, node), path.empty() ? "(top level)" : path,
-                                problem));
+    throw CaseError(
+        fmt::format("{}: {}: {}", where(path, node), path.empty() ? "(top level)" : path, problem));
   }
 
   YAML::Node check(const Field& field, const YAML::Node& node, const std::string& path) {
@@ -115,8 +115,9 @@ struct Validator {
           if (out[c.key()].IsDefined()) continue;
           const std::string child_path = join(path, c.key());
           if (c.is_required())
-            fail(child_path, node, "missing required key; expected " + c.expectation() +
-                                       (c.doc().empty() ? "" : " (" + c.doc() + ")"));
+            fail(child_path, node,
+                 "missing required key; expected " + c.expectation() +
+                     (c.doc().empty() ? "" : " (" + c.doc() + ")"));
           if (c.default_text()) {
             out[c.key()] = check(c, YAML::Load(*c.default_text()), child_path);
           } else if (c.type() == ValueType::section) {
@@ -133,8 +134,9 @@ struct Validator {
         double value = 0;
         if (!parse_number(node, value)) fail(path, node, "not a number; " + expected);
         if (!field.within_bounds(value))
-          fail(path, node, fmt::format("value {} is outside the physical range; {}",
-                                       node.as<std::string>(), expected));
+          fail(path, node,
+               fmt::format("value {} is outside the physical range; {}", node.as<std::string>(),
+                           expected));
         return YAML::Node(value);
       }
       case ValueType::integer: {
@@ -142,7 +144,8 @@ struct Validator {
         if (!parse_number(node, value) || std::floor(value) != value)
           fail(path, node, "not an integer; " + expected);
         if (!field.within_bounds(value))
-          fail(path, node, fmt::format("value {} is out of range; {}", node.as<std::string>(), expected));
+          fail(path, node,
+               fmt::format("value {} is out of range; {}", node.as<std::string>(), expected));
         return YAML::Node(static_cast<long>(value));
       }
       case ValueType::boolean: {
@@ -203,7 +206,8 @@ Case Case::parse(const std::string& yaml_text, const std::string& origin,
   } catch (const YAML::ParserException& e) {
     throw CaseError(fmt::format("{}:{}: YAML syntax error: {}", origin, e.mark.line + 1, e.msg));
   }
-  if (!raw.IsMap()) throw CaseError(fmt::format("{}:1: (top level): expected a map of keys", origin));
+  if (!raw.IsMap())
+    throw CaseError(fmt::format("{}:1: (top level): expected a map of keys", origin));
 
   // --set key.path=value: same validation as the file.
   std::vector<std::pair<std::string, std::string>> override_locations;
@@ -241,7 +245,8 @@ Case Case::parse(const std::string& yaml_text, const std::string& origin,
   if (sweep.IsDefined()) {
     const int line = sweep.Mark().line + 1;
     if (!sweep.IsMap())
-      throw CaseError(fmt::format("{}:{}: sweep: expected a map of key.path: [values]", origin, line));
+      throw CaseError(
+          fmt::format("{}:{}: sweep: expected a map of key.path: [values]", origin, line));
     for (const auto& item : sweep) {
       const auto key = item.first.as<std::string>();
       const Field* field = schema_field(schema, key);
@@ -254,8 +259,10 @@ Case Case::parse(const std::string& yaml_text, const std::string& origin,
         std::function<void(const Field&, const std::string&)> collect = [&](const Field& f,
                                                                             const std::string& p) {
           for (const auto& ch : f.children()) {
-            if (ch.type() == ValueType::section) collect(ch, join(p, ch.key()));
-            else if (ch.is_sweepable()) sweepable += (sweepable.empty() ? "" : ", ") + join(p, ch.key());
+            if (ch.type() == ValueType::section)
+              collect(ch, join(p, ch.key()));
+            else if (ch.is_sweepable())
+              sweepable += (sweepable.empty() ? "" : ", ") + join(p, ch.key());
           }
         };
         collect(schema, "");
@@ -269,7 +276,8 @@ Case Case::parse(const std::string& yaml_text, const std::string& origin,
         double v = 0;
         if (!parse_number(item.second[i], v) || !field->within_bounds(v))
           throw CaseError(fmt::format("{}:{}: sweep.{}[{}]: expected {}", origin,
-                                      item.second[i].Mark().line + 1, key, i, field->expectation()));
+                                      item.second[i].Mark().line + 1, key, i,
+                                      field->expectation()));
         values.push_back(v);
       }
       c.sweep_keys_.push_back(key);
@@ -301,11 +309,12 @@ static YAML::Node required_value(const Case& c, const YAML::Node& root, std::str
   const Field* field = schema_field(c.schema(), path);
   if (!field) throw std::logic_error(fmt::format("case: '{}' is not in the schema", path));
   if (field->type() != type && !(type == ValueType::string && field->type() == ValueType::choice))
-    throw std::logic_error(fmt::format("case: '{}' is a {}, not a {}", path, to_string(field->type()),
-                                       to_string(type)));
+    throw std::logic_error(fmt::format("case: '{}' is a {}, not a {}", path,
+                                       to_string(field->type()), to_string(type)));
   YAML::Node node = lookup(root, path);
   if (!node.IsDefined())
-    throw std::logic_error(fmt::format("case: '{}' is optional and not given; check has() first", path));
+    throw std::logic_error(
+        fmt::format("case: '{}' is optional and not given; check has() first", path));
   return node;
 }
 
@@ -398,11 +407,14 @@ std::pair<std::string, std::string> peek_kind(const std::filesystem::path& file)
   } catch (const YAML::BadFile&) {
     throw CaseError(fmt::format("{}: cannot open the case file", file.string()));
   } catch (const YAML::ParserException& e) {
-    throw CaseError(fmt::format("{}:{}: YAML syntax error: {}", file.string(), e.mark.line + 1, e.msg));
+    throw CaseError(
+        fmt::format("{}:{}: YAML syntax error: {}", file.string(), e.mark.line + 1, e.msg));
   }
   if (!raw.IsMap() || !raw["kind"].IsDefined() || !raw["kind"].IsScalar())
-    throw CaseError(fmt::format("{}:1: kind: missing required key; expected the case kind "
-                                "(rev, dem, mpm, pair, calibrate)", file.string()));
+    throw CaseError(
+        fmt::format("{}:1: kind: missing required key; expected the case kind "
+                    "(rev, dem, mpm, pair, calibrate)",
+                    file.string()));
   std::string test;
   if (raw["test"].IsDefined() && raw["test"].IsScalar()) test = raw["test"].as<std::string>();
   return {raw["kind"].as<std::string>(), test};

@@ -3,14 +3,14 @@
 // (the CLI turns it into one line on stderr and exit code 2, before anything runs).
 #pragma once
 
+#include <yaml-cpp/yaml.h>
+
 #include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
-
-#include <yaml-cpp/yaml.h>
 
 #include "core/schema.hpp"
 
@@ -63,8 +63,8 @@ class Case {
  private:
   Case() = default;
 
-  YAML::Node root_;      // validated tree with defaults filled in
-  std::string origin_;   // file name for messages
+  YAML::Node root_;     // validated tree with defaults filled in
+  std::string origin_;  // file name for messages
   std::string name_, kind_;
   const Schema* schema_ = nullptr;
   std::vector<std::string> sweep_keys_;

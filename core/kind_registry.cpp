@@ -23,7 +23,8 @@ const KindEntry& KindRegistry::find(const std::string& kind, const std::string& 
     if (e.test == test) return e;
   }
   if (!kind_known)
-    throw CaseError(fmt::format("{}: kind: unknown kind '{}'; expected one of: {}", origin, kind, kinds));
+    throw CaseError(
+        fmt::format("{}: kind: unknown kind '{}'; expected one of: {}", origin, kind, kinds));
   throw CaseError(fmt::format("{}: test: {} '{}' for kind {}; expected one of: {}", origin,
                               test.empty() ? "missing test" : "unknown test", test, kind, tests));
 }

@@ -17,9 +17,9 @@ struct KindEntry {
   std::string test;     // e.g. "simple_shear"; empty when the kind has no `test:` key
   std::string summary;  // one line for --help and docs
   Schema schema;        // must contain `kind` (and `test`) as choice fields
-  std::function<void(const Case&)> check;       // cross-field checks; throw via Case::fail
-  std::function<int(RunContext&)> run;          // returns an ExitCode
-  std::string example;  // a case file under cases/ that uses this kind
+  std::function<void(const Case&)> check;  // cross-field checks; throw via Case::fail
+  std::function<int(RunContext&)> run;     // returns an ExitCode
+  std::string example;                     // a case file under cases/ that uses this kind
 };
 
 class KindRegistry {

@@ -1,11 +1,10 @@
 #include "core/result_file.hpp"
 
 #include <H5Cpp.h>
+#include <fmt/format.h>
 
 #include <stdexcept>
 #include <vector>
-
-#include <fmt/format.h>
 
 namespace granflow::core {
 
@@ -96,8 +95,8 @@ void ResultFile::write_matrix(const std::string& path, std::span<const double> v
                               std::size_t rows, std::size_t cols, const std::string& unit,
                               const std::string& description) {
   if (values.size() != rows * cols)
-    throw std::invalid_argument(fmt::format("write_matrix {}: {} values for {}x{}", path,
-                                            values.size(), rows, cols));
+    throw std::invalid_argument(
+        fmt::format("write_matrix {}: {} values for {}x{}", path, values.size(), rows, cols));
   write_dataset(impl_->file, path, values.data(), rows, cols, H5::PredType::NATIVE_DOUBLE, unit,
                 description);
 }

@@ -1,14 +1,14 @@
 #include "core/run.hpp"
 
-#include <cmath>
-#include <cstdlib>
-#include <fstream>
-#include <sstream>
-
 #include <fmt/format.h>
 #include <spdlog/sinks/basic_file_sink.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
 
 #ifndef GRANFLOW_SOURCE_DIR
 #define GRANFLOW_SOURCE_DIR "."
@@ -18,8 +18,8 @@ namespace granflow::core {
 
 NumericalFailure::NumericalFailure(long step_, std::string point_, std::string variable_,
                                    double value_, std::string why)
-    : std::runtime_error(fmt::format("numerical failure at step {}, {}: {} = {} ({})", step_, point_,
-                                     variable_, value_, why)),
+    : std::runtime_error(fmt::format("numerical failure at step {}, {}: {} = {} ({})", step_,
+                                     point_, variable_, value_, why)),
       step(step_),
       point(std::move(point_)),
       variable(std::move(variable_)),
@@ -35,9 +35,10 @@ RunDirectory::RunDirectory(const std::filesystem::path& dir, bool force) : dir_(
   namespace fs = std::filesystem;
   if (fs::exists(dir_)) {
     if (!force)
-      throw CaseError(fmt::format("{}: the run directory exists; a previous run is never overwritten "
-                                  "(choose --out DIR, or pass --force to replace it)",
-                                  dir_.string()));
+      throw CaseError(
+          fmt::format("{}: the run directory exists; a previous run is never overwritten "
+                      "(choose --out DIR, or pass --force to replace it)",
+                      dir_.string()));
     fs::remove_all(dir_);
   }
   fs::create_directories(dir_);
@@ -53,8 +54,8 @@ void Summary::write(const std::filesystem::path& file) const {
       if (ch == '"' || ch == '\\') escaped += '\\';
       escaped += ch;
     }
-    out << "  \"" << escaped << "\": "
-        << (std::isfinite(value) ? fmt::format("{:.17g}", value) : std::string("null"))
+    out << "  \"" << escaped
+        << "\": " << (std::isfinite(value) ? fmt::format("{:.17g}", value) : std::string("null"))
         << (++i < values_.size() ? ",\n" : "\n");
   }
   out << "}\n";
@@ -106,8 +107,9 @@ void Progress::update(double done) {
   const double elapsed = std::chrono::duration<double>(now - start_).count();
   const double fraction = total_ > 0 ? std::min(1.0, done / total_) : 0.0;
   const double eta = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0.0;
-  if (log_) log_->info("{}: {:5.1f} % ({:.4g} / {:.4g}), {:.1f} s elapsed, ETA {:.1f} s", label_,
-                       100 * fraction, done, total_, elapsed, eta);
+  if (log_)
+    log_->info("{}: {:5.1f} % ({:.4g} / {:.4g}), {:.1f} s elapsed, ETA {:.1f} s", label_,
+               100 * fraction, done, total_, elapsed, eta);
 }
 
 void Progress::finish() {
@@ -140,8 +142,9 @@ RunContext::RunContext(const Case& c, const std::filesystem::path& dir, bool for
       log(make_logger(directory / "log.txt", quiet)),
       result(directory / "result.h5"),
       started(std::chrono::steady_clock::now()) {
-  std::ofstream(directory / "case.yaml") << "# resolved case as run by granflow (defaults filled in)\n"
-                                         << c.resolved_yaml();
+  std::ofstream(directory / "case.yaml")
+      << "# resolved case as run by granflow (defaults filled in)\n"
+      << c.resolved_yaml();
   result.attribute("/", "case_name", c.name());
   result.attribute("/", "kind", c.kind());
   result.attribute("/", "granflow_version", std::string("0.1.0"));
@@ -163,15 +166,19 @@ void RunContext::plot(const std::string& script) {
   // Debian's interpreter has python3-matplotlib/python3-h5py; a python3 earlier on PATH (pyenv,
   // venv) may not. GRANFLOW_PYTHON overrides.
   std::string python = "python3";
-  if (const char* env = std::getenv("GRANFLOW_PYTHON"); env && *env) python = env;
-  else if (std::filesystem::exists("/usr/bin/python3")) python = "/usr/bin/python3";
+  if (const char* env = std::getenv("GRANFLOW_PYTHON"); env && *env)
+    python = env;
+  else if (std::filesystem::exists("/usr/bin/python3"))
+    python = "/usr/bin/python3";
   const std::string command =
       // result.h5 is still open for writing (flushed above): read it without HDF5's file lock.
-      fmt::format("HDF5_USE_FILE_LOCKING=FALSE '{}' '{}' '{}' >> '{}' 2>&1", python, path.string(), directory.path().string(),
-                  (directory / "log.txt").string());
+      fmt::format("HDF5_USE_FILE_LOCKING=FALSE '{}' '{}' '{}' >> '{}' 2>&1", python, path.string(),
+                  directory.path().string(), (directory / "log.txt").string());
   if (std::system(command.c_str()) != 0)
-    log->warn("plotting with {} failed (python3-matplotlib and python3-h5py installed?); data in "
-              "result.h5 is complete", script);
+    log->warn(
+        "plotting with {} failed (python3-matplotlib and python3-h5py installed?); data in "
+        "result.h5 is complete",
+        script);
 }
 
 void RunContext::finish() {

@@ -2,6 +2,8 @@
 // progress reporting, cost accounting, and the numerical-failure stop.
 #pragma once
 
+#include <spdlog/logger.h>
+
 #include <chrono>
 #include <filesystem>
 #include <map>
@@ -10,16 +12,19 @@
 #include <stdexcept>
 #include <string>
 
-#include <spdlog/logger.h>
-
 #include "core/case.hpp"
 #include "core/result_file.hpp"
 
 namespace granflow::core {
 
 // Exit codes of the CLI.
-enum ExitCode : int { exit_ok = 0, exit_failure = 1, exit_bad_input = 2, exit_numerical = 3,
-                      exit_external = 4 };
+enum ExitCode : int {
+  exit_ok = 0,
+  exit_failure = 1,
+  exit_bad_input = 2,
+  exit_numerical = 3,
+  exit_external = 4
+};
 
 // A numerical failure stops the run with a message naming the step, the point and the variable;
 // whatever the run wrote before stays on disk.
@@ -85,8 +90,8 @@ struct RunContext {
   const Case& run_case;
   RunDirectory directory;
   std::shared_ptr<spdlog::logger> log;  // log.txt + stderr
-  ResultFile result;                     // result.h5
-  Summary summary;                       // summary.json (written by finish())
+  ResultFile result;                    // result.h5
+  Summary summary;                      // summary.json (written by finish())
   std::chrono::steady_clock::time_point started;
 
   double wall_seconds() const;

@@ -1,22 +1,29 @@
 #include "core/schema.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 namespace granflow::core {
 
 const char* to_string(ValueType type) {
   switch (type) {
-    case ValueType::number: return "number";
-    case ValueType::integer: return "integer";
-    case ValueType::boolean: return "boolean (true/false)";
-    case ValueType::string: return "string";
-    case ValueType::choice: return "name";
-    case ValueType::number_list: return "list of numbers";
-    case ValueType::section: return "section (a map of keys)";
+    case ValueType::number:
+      return "number";
+    case ValueType::integer:
+      return "integer";
+    case ValueType::boolean:
+      return "boolean (true/false)";
+    case ValueType::string:
+      return "string";
+    case ValueType::choice:
+      return "name";
+    case ValueType::number_list:
+      return "list of numbers";
+    case ValueType::section:
+      return "section (a map of keys)";
   }
   return "?";
 }
@@ -87,7 +94,8 @@ Field& Field::string(std::string key, std::string doc) {
   return add(Field(std::move(key), ValueType::string, "", std::move(doc)));
 }
 Field& Field::choice(std::string key, std::vector<std::string> names, std::string doc) {
-  return add(Field(std::move(key), ValueType::choice, "", std::move(doc))).choices(std::move(names));
+  return add(Field(std::move(key), ValueType::choice, "", std::move(doc)))
+      .choices(std::move(names));
 }
 Field& Field::number_list(std::string key, std::string unit, std::string doc) {
   return add(Field(std::move(key), ValueType::number_list, std::move(unit), std::move(doc)));
@@ -139,11 +147,13 @@ static void markdown_rows(const Field& field, const std::string& prefix, std::os
       markdown_rows(c, path, out);
       continue;
     }
-    std::string req = c.is_required() ? "required" : (c.default_text() ? "`" + *c.default_text() + "`" : "optional");
+    std::string req = c.is_required()
+                          ? "required"
+                          : (c.default_text() ? "`" + *c.default_text() + "`" : "optional");
     std::string doc = c.doc();
     if (c.is_sweepable()) doc += " (sweepable)";
-    out << "| `" << path << "` | " << c.expectation() << " | " << (c.unit().empty() ? "-" : c.unit())
-        << " | " << req << " | " << doc << " |\n";
+    out << "| `" << path << "` | " << c.expectation() << " | "
+        << (c.unit().empty() ? "-" : c.unit()) << " | " << req << " | " << doc << " |\n";
   }
 }
 

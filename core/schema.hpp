@@ -21,13 +21,13 @@ class Field {
   Field(std::string key, ValueType type, std::string unit, std::string doc);
 
   Field& required();
-  Field& default_value(std::string yaml_scalar);  // stored as YAML text, validated like input
-  Field& greater_than(double bound);              // value > bound
-  Field& at_least(double bound);                  // value >= bound
-  Field& less_than(double bound);                 // value < bound
-  Field& at_most(double bound);                   // value <= bound
+  Field& default_value(std::string yaml_scalar);   // stored as YAML text, validated like input
+  Field& greater_than(double bound);               // value > bound
+  Field& at_least(double bound);                   // value >= bound
+  Field& less_than(double bound);                  // value < bound
+  Field& at_most(double bound);                    // value <= bound
   Field& choices(std::vector<std::string> names);  // for ValueType::choice
-  Field& sweepable();                             // may be listed under `sweep:`
+  Field& sweepable();                              // may be listed under `sweep:`
 
   // Children of a section. References stay valid (deque), so fragments can be built in place.
   Field& section(std::string key, std::string doc);

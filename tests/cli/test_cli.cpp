@@ -33,7 +33,8 @@ Output run(const std::string& arguments) {
 }
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("granflow_cli_" + name + "_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("granflow_cli_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   return dir;
 }
@@ -49,20 +50,26 @@ std::string read(const fs::path& file) {
 
 TEST(Cli, DefaultCaseRunsAndReproducesTheClosedForm) {
   const fs::path out = scratch("dry");
-  const auto r = run("run " + (source / "cases/rev/simple_shear_dry.yaml").string() + " --out " + out.string());
+  const auto r = run("run " + (source / "cases/rev/simple_shear_dry.yaml").string() + " --out " +
+                     out.string());
   ASSERT_EQ(r.code, 0) << r.text;
   for (const char* file : {"case.yaml", "result.h5", "summary.json", "log.txt"})
     EXPECT_TRUE(fs::exists(out / file)) << file;
   const auto summary = granflow::core::Summary::read(out / "summary.json");
   EXPECT_LT(summary.get("closed_form.T_rel_err"), 1e-6);
-  for (const char* key : {"steady.mu", "steady.e", "steady.phi", "steady.T", "steady.p", "steady.tau",
-                          "steady.I", "cost.wall_s", "cost.steps", "cost.updates_per_s"})
+  for (const char* key :
+       {"steady.mu", "steady.e", "steady.phi", "steady.T", "steady.p", "steady.tau", "steady.I",
+        "cost.wall_s", "cost.steps", "cost.updates_per_s"})
     EXPECT_TRUE(summary.contains(key)) << key;
   // never overwrite a previous run silently
-  const auto again = run("run " + (source / "cases/rev/simple_shear_dry.yaml").string() + " --out " + out.string());
+  const auto again = run("run " + (source / "cases/rev/simple_shear_dry.yaml").string() +
+                         " --out " + out.string());
   EXPECT_EQ(again.code, 2);
   EXPECT_NE(again.text.find("exists"), std::string::npos) << again.text;
-  EXPECT_EQ(run("run " + (source / "cases/rev/simple_shear_dry.yaml").string() + " --force --quiet --out " + out.string()).code, 0);
+  EXPECT_EQ(run("run " + (source / "cases/rev/simple_shear_dry.yaml").string() +
+                " --force --quiet --out " + out.string())
+                .code,
+            0);
   fs::remove_all(out);
 }
 
@@ -77,7 +84,8 @@ TEST(Cli, MisspelledKeyExitsTwoNamingIt) {
   EXPECT_NE(r.text.find("loading.shear_rat: unknown key"), std::string::npos) << r.text;
   EXPECT_NE(r.text.find("typo.yaml:"), std::string::npos) << r.text;
   EXPECT_FALSE(fs::exists(dir / "out")) << "nothing may run on bad input";
-  const auto set = run("check " + (source / "cases/rev/simple_shear_dry.yaml").string() + " --set material.restitution=1.5");
+  const auto set = run("check " + (source / "cases/rev/simple_shear_dry.yaml").string() +
+                       " --set material.restitution=1.5");
   EXPECT_EQ(set.code, 2);
   EXPECT_NE(set.text.find("material.restitution"), std::string::npos) << set.text;
   fs::remove_all(dir);
@@ -97,7 +105,8 @@ TEST(Cli, NumericalFailureExitsThreeAndKeepsTheData) {
 
 TEST(Cli, EveryShippedCaseValidates) {
   for (const auto& entry : fs::recursive_directory_iterator(source / "cases")) {
-    if (entry.path().extension() != ".yaml" || entry.path().parent_path().filename() == "materials") continue;
+    if (entry.path().extension() != ".yaml" || entry.path().parent_path().filename() == "materials")
+      continue;
     const auto r = run("check " + entry.path().string());
     EXPECT_EQ(r.code, 0) << entry.path() << ": " << r.text;
   }
@@ -107,5 +116,6 @@ TEST(Cli, CaseReferenceIsGeneratedFromTheSchema) {
   const auto r = run("schema --markdown");
   ASSERT_EQ(r.code, 0);
   EXPECT_EQ(read(source / "docs/cases.md"), r.text)
-      << "docs/cases.md is stale: regenerate with `build/app/granflow schema --markdown > docs/cases.md`";
+      << "docs/cases.md is stale: regenerate with `build/app/granflow schema --markdown > "
+         "docs/cases.md`";
 }

@@ -21,7 +21,8 @@ Schema test_schema() {
   l.number("void_ratio", "", "void ratio e").greater_than(0).sweepable();
   l.number("shear_rate", "1/s", "shear rate").required().greater_than(0).sweepable();
   l.number("solid_fraction", "", "ν").greater_than(0).less_than(1);
-  l.choice("control", {"constant_volume", "constant_pressure"}, "control").default_value("constant_volume");
+  l.choice("control", {"constant_volume", "constant_pressure"}, "control")
+      .default_value("constant_volume");
   l.integer("steps", "steps").default_value("10").greater_than(0);
   l.boolean("verbose", "flag").default_value("false");
   return s;
@@ -76,8 +77,8 @@ TEST(Case, WrongTypeIsAnError) {
   const auto e = error_of(replace(good, "shear_rate: 10", "shear_rate: fast"));
   EXPECT_NE(e.find("case.yaml:8: loading.shear_rate: not a number"), std::string::npos) << e;
   EXPECT_NE(e.find("> 0"), std::string::npos) << e;
-  const auto s = error_of(replace(good, "material:\n  diameter: 1.0e-3\n  restitution: 0.7\n",
-                                  "material: 3\n"));
+  const auto s = error_of(
+      replace(good, "material:\n  diameter: 1.0e-3\n  restitution: 0.7\n", "material: 3\n"));
   EXPECT_NE(s.find("material: expected a section"), std::string::npos) << s;
 }
 
@@ -89,23 +90,42 @@ TEST(Case, MissingRequiredKeyIsAnError) {
 
 TEST(Case, PhysicallyImpossibleValuesAreErrors) {
   // e <= 0, restitution outside (0, 1], negative diameter / viscosity, ν >= 1
-  EXPECT_NE(error_of(replace(good, "void_ratio: 0.8", "void_ratio: 0")).find("loading.void_ratio: value 0 is outside the physical range; expected number > 0"), std::string::npos);
-  EXPECT_NE(error_of(replace(good, "restitution: 0.7", "restitution: 1.2")).find("material.restitution"), std::string::npos);
-  EXPECT_NE(error_of(replace(good, "restitution: 0.7", "restitution: 0")).find("in (0, 1]"), std::string::npos);
-  EXPECT_NE(error_of(replace(good, "diameter: 1.0e-3", "diameter: -1.0e-3")).find("case.yaml:4: material.diameter"), std::string::npos);
-  EXPECT_NE(error_of(std::string(good) + "  solid_fraction: 1.0\n").find("loading.solid_fraction"), std::string::npos);
-  EXPECT_NE(error_of(replace(good, "restitution: 0.7", "restitution: 0.7\n  viscosity: -1")).find("material.viscosity"), std::string::npos);
-  EXPECT_NE(error_of(replace(good, "void_ratio: 0.8", "void_ratio: .nan")).find("loading.void_ratio"), std::string::npos);
+  EXPECT_NE(
+      error_of(replace(good, "void_ratio: 0.8", "void_ratio: 0"))
+          .find("loading.void_ratio: value 0 is outside the physical range; expected number > 0"),
+      std::string::npos);
+  EXPECT_NE(
+      error_of(replace(good, "restitution: 0.7", "restitution: 1.2")).find("material.restitution"),
+      std::string::npos);
+  EXPECT_NE(error_of(replace(good, "restitution: 0.7", "restitution: 0")).find("in (0, 1]"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(good, "diameter: 1.0e-3", "diameter: -1.0e-3"))
+                .find("case.yaml:4: material.diameter"),
+            std::string::npos);
+  EXPECT_NE(error_of(std::string(good) + "  solid_fraction: 1.0\n").find("loading.solid_fraction"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(good, "restitution: 0.7", "restitution: 0.7\n  viscosity: -1"))
+                .find("material.viscosity"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of(replace(good, "void_ratio: 0.8", "void_ratio: .nan")).find("loading.void_ratio"),
+      std::string::npos);
 }
 
 TEST(Case, UnknownChoiceListsTheValidNames) {
   const auto e = error_of(std::string(good) + "  control: constant_strain\n");
-  EXPECT_NE(e.find("loading.control: unknown name 'constant_strain'; expected one of: constant_volume, constant_pressure"), std::string::npos) << e;
+  EXPECT_NE(e.find("loading.control: unknown name 'constant_strain'; expected one of: "
+                   "constant_volume, constant_pressure"),
+            std::string::npos)
+      << e;
 }
 
 TEST(Case, KindAndTestAreChecked) {
-  EXPECT_NE(error_of(replace(good, "kind: rev", "kind: dem")).find("case.yaml:1: kind: unknown name 'dem'"), std::string::npos);
-  EXPECT_NE(error_of(replace(good, "test: simple_shear\n", "")).find("test: missing required key"), std::string::npos);
+  EXPECT_NE(error_of(replace(good, "kind: rev", "kind: dem"))
+                .find("case.yaml:1: kind: unknown name 'dem'"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(good, "test: simple_shear\n", "")).find("test: missing required key"),
+            std::string::npos);
 }
 
 TEST(Case, YamlSyntaxErrorNamesTheLine) {
@@ -115,20 +135,28 @@ TEST(Case, YamlSyntaxErrorNamesTheLine) {
 
 TEST(Case, SetOverridesAreValidatedLikeTheFile) {
   const Schema schema = test_schema();
-  const Case c = Case::parse(good, "case.yaml", {"loading.shear_rate=50", "material.viscosity=0.01"}, schema);
+  const Case c =
+      Case::parse(good, "case.yaml", {"loading.shear_rate=50", "material.viscosity=0.01"}, schema);
   EXPECT_DOUBLE_EQ(c.number("loading.shear_rate"), 50);
   EXPECT_DOUBLE_EQ(c.number("material.viscosity"), 0.01);
   const auto bad = error_of(good, {"loading.shear_rate=-5"});
-  EXPECT_NE(bad.find("--set loading.shear_rate=-5: loading.shear_rate: value -5 is outside"), std::string::npos) << bad;
+  EXPECT_NE(bad.find("--set loading.shear_rate=-5: loading.shear_rate: value -5 is outside"),
+            std::string::npos)
+      << bad;
   const auto unknown = error_of(good, {"loading.shear_rat=5"});
-  EXPECT_NE(unknown.find("--set loading.shear_rat=5: loading.shear_rat: unknown key"), std::string::npos) << unknown;
-  EXPECT_NE(error_of(good, {"loading.shear_rate"}).find("expected key.path=value"), std::string::npos);
+  EXPECT_NE(unknown.find("--set loading.shear_rat=5: loading.shear_rat: unknown key"),
+            std::string::npos)
+      << unknown;
+  EXPECT_NE(error_of(good, {"loading.shear_rate"}).find("expected key.path=value"),
+            std::string::npos);
 }
 
 TEST(Case, SweepExpandsAsCartesianProductFirstKeySlowest) {
   const Schema schema = test_schema();
-  const Case c = Case::parse(std::string(good) + "sweep:\n  loading.shear_rate: [1, 2, 3]\n  loading.void_ratio: [0.6, 0.9]\n",
-                             "case.yaml", {}, schema);
+  const Case c =
+      Case::parse(std::string(good) +
+                      "sweep:\n  loading.shear_rate: [1, 2, 3]\n  loading.void_ratio: [0.6, 0.9]\n",
+                  "case.yaml", {}, schema);
   ASSERT_TRUE(c.is_sweep());
   const auto conditions = c.expand_sweep();
   ASSERT_EQ(conditions.size(), 6u);
@@ -138,14 +166,20 @@ TEST(Case, SweepExpandsAsCartesianProductFirstKeySlowest) {
   EXPECT_DOUBLE_EQ(conditions[5].number("loading.shear_rate"), 3);
   EXPECT_DOUBLE_EQ(conditions[5].number("loading.void_ratio"), 0.9);
   EXPECT_FALSE(conditions[2].is_sweep());
-  EXPECT_NE(conditions[3].location("loading.shear_rate").find("sweep loading.shear_rate=2"), std::string::npos);
+  EXPECT_NE(conditions[3].location("loading.shear_rate").find("sweep loading.shear_rate=2"),
+            std::string::npos);
 }
 
 TEST(Case, SweepValuesAndKeysAreValidated) {
-  const auto not_sweepable = error_of(std::string(good) + "sweep:\n  material.diameter: [1e-3, 2e-3]\n");
-  EXPECT_NE(not_sweepable.find("case.yaml:10: sweep.material.diameter: not a sweepable key; expected one of: loading.void_ratio, loading.shear_rate"), std::string::npos) << not_sweepable;
+  const auto not_sweepable =
+      error_of(std::string(good) + "sweep:\n  material.diameter: [1e-3, 2e-3]\n");
+  EXPECT_NE(not_sweepable.find("case.yaml:10: sweep.material.diameter: not a sweepable key; "
+                               "expected one of: loading.void_ratio, loading.shear_rate"),
+            std::string::npos)
+      << not_sweepable;
   const auto bad_value = error_of(std::string(good) + "sweep:\n  loading.shear_rate: [1, -2]\n");
-  EXPECT_NE(bad_value.find("sweep.loading.shear_rate[1]: expected number > 0"), std::string::npos) << bad_value;
+  EXPECT_NE(bad_value.find("sweep.loading.shear_rate[1]: expected number > 0"), std::string::npos)
+      << bad_value;
 }
 
 TEST(Case, CrossFieldFailureIsLocated) {

@@ -13,7 +13,8 @@ using namespace granflow::core;
 
 namespace {
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("granflow_test_" + name + "_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("granflow_test_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   return dir;
 }
@@ -21,7 +22,10 @@ fs::path fresh_dir(const std::string& name) {
 
 TEST(RunDirectory, ExistingDirectoryIsNeverOverwrittenWithoutForce) {
   const fs::path dir = fresh_dir("rundir");
-  { RunDirectory first(dir, false); std::ofstream(dir / "result.h5") << "previous"; }
+  {
+    RunDirectory first(dir, false);
+    std::ofstream(dir / "result.h5") << "previous";
+  }
   EXPECT_THROW(RunDirectory(dir, false), CaseError);
   EXPECT_TRUE(fs::exists(dir / "result.h5"));  // untouched
   RunDirectory forced(dir, true);
@@ -57,7 +61,8 @@ TEST(ResultFile, DatasetsCarryUnitsAndSurviveReopen) {
   }
   EXPECT_EQ(read_dataset(dir / "result.h5", "series/granular_temperature"),
             (std::vector<double>{1e-4, 2e-4, 3e-4}));
-  EXPECT_EQ(read_string_attribute(dir / "result.h5", "series/granular_temperature", "unit"), "m^2/s^2");
+  EXPECT_EQ(read_string_attribute(dir / "result.h5", "series/granular_temperature", "unit"),
+            "m^2/s^2");
   EXPECT_EQ(read_number_attribute(dir / "result.h5", "/steady", "diameter"), 1e-3);
   EXPECT_EQ(read_string_attribute(dir / "result.h5", "/", "kind"), "rev");
   EXPECT_EQ(read_dataset(dir / "result.h5", "fields/stress").size(), 6u);
@@ -70,8 +75,10 @@ TEST(NumericalFailure, NamesStepPointAndVariable) {
     FAIL();
   } catch (const NumericalFailure& e) {
     EXPECT_EQ(e.step, 42);
-    EXPECT_NE(std::string(e.what()).find("step 42, material point 7: granular_temperature = -0.001 (negative)"),
-              std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(
+                  "step 42, material point 7: granular_temperature = -0.001 (negative)"),
+              std::string::npos)
+        << e.what();
   }
   EXPECT_THROW(check_finite(std::nan(""), 1, "p", "v"), NumericalFailure);
   EXPECT_THROW(check_finite(INFINITY, 1, "p", "v"), NumericalFailure);
