@@ -38,16 +38,17 @@ class CriticalStateLadeDuncan {
     const double c = std::clamp(cos3theta, -1.0, 1.0);
     const double target = 27.0 / k_ld_;
     double lo = 0.0, hi = 3.0, eta = m_c_;
-    for (int it = 0; it < 40; ++it) {
+    for (int it = 0; it < 60; ++it) {
       const double h = 1.0 - eta * eta / 3.0 + 2.0 / 27.0 * c * eta * eta * eta - target;
+      if (h == 0.0) return eta;
       if (h > 0)
         lo = eta;
       else
         hi = eta;
       const double dh = -2.0 * eta / 3.0 + 2.0 / 9.0 * c * eta * eta;
       double next = dh < 0 ? eta - h / dh : 0.5 * (lo + hi);
-      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-      if (std::abs(next - eta) < 1e-14) return next;
+      if (!(next >= lo && next <= hi)) next = 0.5 * (lo + hi);  // safeguard: bisection
+      if (std::abs(next - eta) <= 1e-15 * eta) return next;
       eta = next;
     }
     return eta;

@@ -44,10 +44,17 @@ ForceChainState ForceChainModel::isotropic_state(double p, double void_ratio, do
   return s;
 }
 
+bool ForceChainModel::admissible(const Tensor& stress, const Tensor& chi, double r_c) {
+  // r > 0 for the locus to be defined, and the no-tension cutoff σ_3 >= 0: grains in contact
+  // carry no tension, and beyond σ_3 = 0 (q/p > 3 in compression) the cubic term of the locus
+  // opens it (see docs/model/force_chains.md §2). The tolerance 1e-12 |σ| absorbs round-off.
+  return double_contraction(stress, chi) > kApexRatio * r_c &&
+         minimum_principal_stress(stress) >= -1e-12 * stress.norm();
+}
+
 double ForceChainModel::safe_yield(const Tensor& stress, const Tensor& chi, double r_c) const {
   if (!(r_c > 0.0)) return -kYieldClip;
-  const double r = double_contraction(stress, chi);
-  if (r > kApexRatio * r_c)
+  if (admissible(stress, chi, r_c))
     return std::clamp(yield_.value(stress, chi, r_c), -kYieldClip, kYieldClip);
   // at (or beyond) the apex: the origin itself is inside, any other point is in tension
   return stress.norm() <= kApexRatio * r_c ? -kYieldClip : kYieldClip;
@@ -126,7 +133,7 @@ ForceChainModel::Increment ForceChainModel::increment(const Point& y, const Tens
 
 void ForceChainModel::correct_drift(Point& y) const {
   for (int it = 0; it < 4; ++it) {
-    if (!(double_contraction(y.stress, y.chi) > kApexRatio * y.r_c)) return;
+    if (!admissible(y.stress, y.chi, y.r_c)) return;
     const PlasticRates r = plastic_rates(y);
     const double f0 = r.value;
     if (std::abs(f0) <= par_.yield_tolerance) return;
@@ -209,6 +216,8 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& in
     y.void_ratio = (1.0 + y.void_ratio) * std::exp(-strain.trace()) - 1.0;
     return 0.0;
   }
+  // from the stress-free state straight into tension: all contact loss
+  if (y.stress.norm() <= kApexRatio * y.r_c && !admissible(trial, y.chi, y.r_c)) return 1.0;
   const double alpha = elastic_fraction(y, strain, f0);
   if (alpha > 0.0) {
     y.stress = elastic_.finite_update(y.stress, alpha * strain);
@@ -220,9 +229,7 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& in
   double t = 0.0, dt = fixed ? 1.0 / par_.fixed_substeps : 1.0;
   bool last_failed = false;
   int attempts = 0;
-  auto at_apex = [](const Point& z) {
-    return !(double_contraction(z.stress, z.chi) > kApexRatio * z.r_c);
-  };
+  auto at_apex = [](const Point& z) { return !admissible(z.stress, z.chi, z.r_c); };
   auto add = [](const Point& z, const Increment& a, const Increment& b, double w) {
     Point out = z;
     out.stress += w * (a.stress + b.stress);
@@ -248,8 +255,10 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& in
       apex = at_apex(next);
       const double stress_scale = std::max(next.stress.norm(), par_.pressure_floor);
       const double size_scale = std::max(next.r_c, par_.fluidization_size);
-      error = std::max(0.5 * (k2.stress - k1.stress).norm() / stress_scale,
-                       0.5 * std::abs(k2.r_c - k1.r_c) / size_scale);
+      // local error of the Euler/modified-Euler pair: stress and r_c relative, χ absolute (unit)
+      error =
+          std::max({0.5 * (k2.stress - k1.stress).norm() / stress_scale,
+                    0.5 * std::abs(k2.r_c - k1.r_c) / size_scale, 0.5 * (k2.chi - k1.chi).norm()});
     }
     if (apex) {
       if (!last_chance) {  // shorten the step to approach the apex

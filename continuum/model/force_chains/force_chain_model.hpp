@@ -86,6 +86,7 @@ class ForceChainModel {
     double size_rate, denominator, value;
   };
 
+  static bool admissible(const Tensor& stress, const Tensor& chi, double r_c);
   double safe_yield(const Tensor& stress, const Tensor& chi, double r_c) const;
   PlasticRates plastic_rates(const Point& y) const;
   Increment increment(const Point& y, const Tensor& strain, bool plastic) const;

@@ -38,4 +38,15 @@ inline double lode_cos3theta(const Tensor& s) {
   return std::clamp(c, -1.0, 1.0);
 }
 
+// Smallest principal stress from the invariants: σ_3 = p + (2/3) q cos(θ + 2π/3), θ =
+// acos(cos3θ)/3 in [0, π/3] (no eigen-solver needed).
+inline double minimum_principal_stress(const Tensor& stress) {
+  const double p = mean_stress(stress);
+  const Tensor s = deviator(stress);
+  const double q = std::sqrt(1.5 * double_contraction(s, s));
+  if (!(q > 0.0)) return p;
+  const double theta = std::acos(lode_cos3theta(s)) / 3.0;
+  return p + 2.0 / 3.0 * q * std::cos(theta + 2.0943951023931955);
+}
+
 }  // namespace granflow::model::force_chains
