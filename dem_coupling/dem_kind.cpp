@@ -1,0 +1,438 @@
+#include "dem_coupling/dem_kind.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <span>
+
+#include "analysis/steady_state.hpp"
+#include "continuum/multi_regime/model_sections.hpp"
+#include "dem_coupling/kind/launch.hpp"
+#include "dem_coupling/kind/series_table.hpp"
+
+namespace granflow::dem {
+
+core::Schema shear_schema() {
+  core::Schema s = core::kind_header(
+      "dem", "",
+      "Periodic (Lees-Edwards) simple shear of dry spheres in LIGGGHTS 3.8.0 via granflow-dem, at "
+      "constant volume or constant normal stress; steady μ, φ, T, I, Z with error bars.");
+  // The continuum's material section (one description for both), with DEM-only keys added and
+  // the friction made sweepable (frictional vs frictionless sweeps).
+  core::Field material = continuum::material_section();
+  material.number("particle_friction", "", "interparticle friction coefficient μ_p")
+      .default_value("0.5")
+      .at_least(0)
+      .sweepable();
+  material
+      .choice("size_distribution", {"monodisperse", "bidisperse", "uniform"},
+              "particle sizes (number-mean diameter = material.diameter)")
+      .default_value("bidisperse");
+  material.number("size_ratio", "", "bidisperse: d_large / d_small")
+      .default_value("1.22")
+      .at_least(1);
+  material.number("large_fraction", "", "bidisperse: number fraction of large particles")
+      .default_value("0.5")
+      .at_least(0)
+      .at_most(1);
+  material.number("polydispersity", "", "uniform: d uniform in d (1 ± polydispersity)")
+      .default_value("0.1")
+      .at_least(0)
+      .less_than(1);
+  s.add(std::move(material));
+  auto& dem = s.section("dem", "DEM run settings");
+  dem.integer("particles", "number of spheres").default_value("1000").greater_than(0);
+  dem.integer("seed", "random seed of the initial packing and sizes")
+      .default_value("1")
+      .at_least(0);
+  dem.integer("ranks", "MPI ranks (mpirun -np) for granflow-dem").default_value("1").at_least(1);
+  dem.number("time_step_safety", "", "Δt = safety × min(Rayleigh time, Hertz contact time)")
+      .default_value("0.1")
+      .greater_than(0)
+      .at_most(0.5);
+  dem.number("impact_speed_factor", "", "Hertz time at impact speed = factor × γ̇ × d_max")
+      .default_value("3")
+      .greater_than(0);
+  dem.integer("compression_steps", "steps of the isotropic compression before shearing")
+      .default_value("10000")
+      .greater_than(0);
+  auto& control = s.section("control", "volume or normal-stress control");
+  control
+      .choice("mode", {"constant_volume", "constant_pressure"},
+              "constant_volume: φ imposed; constant_pressure: σ_yy imposed by a servo on L_y")
+      .required();
+  control.number("solid_fraction", "", "φ (constant_volume), initial φ (constant_pressure)")
+      .default_value("0.55")
+      .greater_than(0)
+      .less_than(1)
+      .sweepable();
+  control.number("normal_stress", "Pa", "imposed normal stress σ_yy (constant_pressure)")
+      .greater_than(0)
+      .sweepable();
+  control.number("servo_gain", "", "relative height change per relative stress error")
+      .default_value("0.01")
+      .greater_than(0);
+  control.number("servo_max_strain", "", "largest relative height change per servo update")
+      .default_value("0.002")
+      .greater_than(0)
+      .at_most(0.05);
+  control.number("servo_strain", "", "shear strain between servo updates")
+      .default_value("0.1")
+      .greater_than(0);
+  s.number("shear_rate", "1/s", "imposed shear rate γ̇").required().greater_than(0).sweepable();
+  auto& strain = s.section("strain", "shear strain to run and sample");
+  strain.number("total", "", "shear strain of the run").default_value("20").greater_than(0);
+  strain.number("sample", "", "shear strain between samples").default_value("0.01").greater_than(0);
+  auto& output = s.section("output", "what is written");
+  output.integer("profile_bins", "y bins of the mean velocity profile")
+      .default_value("10")
+      .at_least(1);
+  return s;
+}
+
+ShearDeckParams read_shear_params(const core::Case& c) {
+  ShearDeckParams p;
+  DemMaterial& m = p.material;
+  m.diameter = c.number("material.diameter");
+  m.particle_density = c.number("material.particle_density");
+  m.restitution = c.number("material.restitution");
+  m.particle_friction = c.number("material.particle_friction");
+  m.youngs_modulus = c.number("material.youngs_modulus");
+  m.poisson_ratio = c.number("material.poisson_ratio");
+  const std::string size = c.string("material.size_distribution");
+  m.size = size == "bidisperse" ? SizeDistribution::bidisperse
+           : size == "uniform"  ? SizeDistribution::uniform
+                                : SizeDistribution::monodisperse;
+  m.size_ratio = c.number("material.size_ratio");
+  m.large_fraction = c.number("material.large_fraction");
+  m.polydispersity = c.number("material.polydispersity");
+  p.particles = c.integer("dem.particles");
+  p.seed = static_cast<unsigned long>(c.integer("dem.seed"));
+  p.dt_safety = c.number("dem.time_step_safety");
+  p.impact_speed_factor = c.number("dem.impact_speed_factor");
+  p.compression_steps = c.integer("dem.compression_steps");
+  p.constant_pressure = c.string("control.mode") == "constant_pressure";
+  p.solid_fraction = c.number("control.solid_fraction");
+  if (c.has("control.normal_stress")) p.normal_stress = c.number("control.normal_stress");
+  p.servo_gain = c.number("control.servo_gain");
+  p.servo_max_strain = c.number("control.servo_max_strain");
+  p.servo_strain = c.number("control.servo_strain");
+  p.shear_rate = c.number("shear_rate");
+  p.total_strain = c.number("strain.total");
+  p.sample_strain = c.number("strain.sample");
+  p.profile_bins = static_cast<int>(c.integer("output.profile_bins"));
+  return p;
+}
+
+namespace {
+
+void check_shear(const core::Case& sweep_case) {
+  for (const core::Case& c : sweep_case.expand_sweep()) {
+    if (c.string("control.mode") == "constant_pressure" && !c.has("control.normal_stress"))
+      c.fail("control.normal_stress",
+             "missing required key for constant_pressure; expected σ_yy > 0 [Pa]");
+    const ShearDeckParams p = read_shear_params(c);
+    for (const auto& [path, expected] : check_shear_params(p)) c.fail(path, expected);
+    const ShearDeck deck = make_shear_deck(p, "particles.data");
+    // At least a few samples per unit strain and a steady part long enough for batch means.
+    if (deck.total_steps / deck.sample_every < 100)
+      c.fail("strain.sample",
+             fmt::format("at most strain.total/100 = {:g} (batch means need >= 100 samples)",
+                         p.total_strain / 100.0));
+  }
+}
+
+// Steady value of one series: MSER start (given), batch-means mean and standard error.
+struct Steady {
+  double mean, error;
+};
+Steady steady_of(const std::vector<double>& series, std::size_t start) {
+  const auto e = analysis::batch_means(std::span(series).subspan(start));
+  return {e.mean, e.standard_error};
+}
+
+struct PointResult {
+  std::map<std::string, double> values;  // summary names without "steady." prefix
+  double steps = 0, dt = 0, particles = 0, wall = 0, particle_steps_per_s = 0;
+};
+
+constexpr const char* series_units[][3] = {
+    {"step", "1", "LIGGGHTS time step number"},
+    {"time", "s", "time since the start of shear"},
+    {"strain", "1", "shear strain γ̇ t"},
+    {"ly", "m", "box height L_y"},
+    {"xy", "m", "tilt of the Lees-Edwards box"},
+    {"volume", "m^3", "box volume"},
+    {"Pvir_yy", "Pa", "contact (virial) normal stress P^vir_yy, compression positive"},
+    {"Pvir_xy", "Pa", "contact (virial) shear component P^vir_xy"},
+    {"Pkin_yy", "Pa", "kinetic normal stress about the profile"},
+    {"Pkin_xy", "Pa", "kinetic shear component about the profile"},
+    {"P_xx", "Pa", "total stress P_xx (compression positive)"},
+    {"P_yy", "Pa", "total stress P_yy"},
+    {"P_zz", "Pa", "total stress P_zz"},
+    {"P_xy", "Pa", "total stress P_xy"},
+    {"sigma_yy", "Pa", "normal stress σ_yy = P_yy"},
+    {"tau", "Pa", "shear stress τ = -P_xy"},
+    {"p", "Pa", "mean pressure tr(P)/3"},
+    {"mu", "1", "stress ratio μ = τ/σ_yy"},
+    {"T", "m^2/s^2", "granular temperature about the Lees-Edwards profile"},
+    {"phi", "1", "solid fraction φ"},
+    {"e", "1", "void ratio e = 1/φ - 1"},
+    {"I", "1", "inertial number γ̇ d / sqrt(σ_yy/ρ_p)"},
+    {"Z", "1", "coordination number 2 N_c / N"},
+    {"momentum_x", "kg m/s", "peculiar momentum Σ m (v_x - u_x(y))"},
+    {"momentum_y", "kg m/s", "momentum Σ m v_y"},
+    {"momentum_z", "kg m/s", "momentum Σ m v_z"},
+    {"profile_deviation", "1", "RMS deviation of the mean v_x profile from the line / (γ̇ L_y)"},
+};
+
+PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& dir,
+                          const std::string& group, const ShearDeckParams& p,
+                          const ShearDeck& deck) {
+  PointResult r;
+  const SeriesTable t = read_series_table(dir / "series.tsv");
+  auto& out = ctx.result;
+  if (t.rows() > 0) {
+    for (const auto& [name, unit, doc] : series_units)
+      out.write(group + "/series/" + name, t.at(name), unit, doc);
+    const SeriesTable prof = read_series_table(dir / "profile.tsv", false);
+    if (prof.rows() > 0 && prof.names.size() > 2) {
+      const std::size_t bins = prof.names.size() - 2;
+      std::vector<double> matrix;
+      matrix.reserve(prof.rows() * bins);
+      for (std::size_t i = 0; i < prof.rows(); ++i)
+        for (std::size_t b = 0; b < bins; ++b) matrix.push_back(prof.at(std::to_string(b + 2))[i]);
+      out.write_matrix(group + "/profile/velocity", matrix, prof.rows(), bins, "m/s",
+                       "mean v_x per y bin (rows: samples, cols: bins from ylo up)");
+      out.write(group + "/profile/strain", prof.at("1"), "1", "shear strain of each row");
+    }
+  }
+  out.attribute(group, "dt", deck.dt);
+  out.attribute(group, "rayleigh_time", deck.times.rayleigh);
+  out.attribute(group, "hertz_time", deck.times.hertz);
+  out.attribute(group, "shear_rate", p.shear_rate);
+  out.attribute(group, "mean_diameter", deck.mean_diameter);
+  out.attribute(group, "particles", double(p.particles));
+  out.attribute(group, "particle_friction", p.material.particle_friction);
+  out.attribute(group, "restitution", p.material.restitution);
+  out.attribute(group, "control", p.constant_pressure ? "constant_pressure" : "constant_volume");
+  if (p.constant_pressure)
+    out.attribute(group, "normal_stress_target", p.normal_stress);
+  else
+    out.attribute(group, "solid_fraction_target", p.solid_fraction);
+  out.flush();
+  r.dt = deck.dt;
+  r.particles = double(p.particles);
+  if (t.rows() < 8) return r;
+
+  // Steady start: the latest MSER-5 truncation among the main observables.
+  std::size_t start = 0;
+  for (const char* name : {"sigma_yy", "tau", "phi", "T"})
+    start = std::max(start, analysis::mser_truncation(t.at(name), 5));
+  const auto& sigma = t.at("sigma_yy");
+  const auto& tau = t.at("tau");
+  const Steady s_sigma = steady_of(sigma, start);
+  const Steady s_tau = steady_of(tau, start);
+  // mu = <tau>/<sigma_yy> (ratio of means); its error from the batch means of the linearised
+  // residual tau - mu sigma_yy (delta method): se(mu) = se(<tau - mu sigma>) / <sigma>.
+  const double mu = s_tau.mean / s_sigma.mean;
+  std::vector<double> residual(sigma.size());
+  for (std::size_t i = 0; i < sigma.size(); ++i) residual[i] = tau[i] - mu * sigma[i];
+  const double mu_err = steady_of(residual, start).error / s_sigma.mean;
+  const Steady s_phi = steady_of(t.at("phi"), start);
+  const Steady s_T = steady_of(t.at("T"), start);
+  const Steady s_p = steady_of(t.at("p"), start);
+  const Steady s_Z = steady_of(t.at("Z"), start);
+  const Steady s_dev = steady_of(t.at("profile_deviation"), start);
+  const double d = deck.mean_diameter;
+  const double inertial = p.shear_rate * d / std::sqrt(s_sigma.mean / p.material.particle_density);
+  auto& v = r.values;
+  v["mu"] = mu;
+  v["mu_err"] = mu_err;
+  v["phi"] = s_phi.mean;
+  v["phi_err"] = s_phi.error;
+  v["e"] = 1.0 / s_phi.mean - 1.0;
+  v["e_err"] = s_phi.error / (s_phi.mean * s_phi.mean);
+  v["T"] = s_T.mean;
+  v["T_err"] = s_T.error;
+  v["T_scaled"] = s_T.mean / (d * p.shear_rate * d * p.shear_rate);
+  v["p"] = s_sigma.mean;
+  v["p_err"] = s_sigma.error;
+  v["p_mean"] = s_p.mean;
+  v["p_mean_err"] = s_p.error;
+  v["tau"] = s_tau.mean;
+  v["tau_err"] = s_tau.error;
+  v["I"] = inertial;
+  v["I_err"] = 0.5 * inertial * s_sigma.error / s_sigma.mean;  // I ∝ σ^(-1/2)
+  v["Z"] = s_Z.mean;
+  v["Z_err"] = s_Z.error;
+  v["profile_deviation"] = s_dev.mean;
+  v["start_strain"] = t.at("strain")[start];
+  v["end_strain"] = t.at("strain").back();
+  v["samples"] = double(t.rows() - start);
+  v["tau_int_mu"] =
+      analysis::integrated_autocorrelation_time(std::span<const double>(residual).subspan(start));
+  if (p.constant_pressure) v["p_rel_dev"] = s_sigma.mean / p.normal_stress - 1.0;
+  for (const auto& [name, value] : v) out.attribute(group + "/steady", name, value);
+  return r;
+}
+
+int run_shear(core::RunContext& ctx) {
+  const auto conditions = ctx.run_case.expand_sweep();
+  const bool sweep = ctx.run_case.is_sweep();
+  core::Progress progress(ctx.log, "DEM conditions", double(conditions.size()));
+  std::vector<PointResult> results;
+  double total_particle_steps = 0.0, total_dem_wall = 0.0;
+  int code = core::exit_ok;
+  for (std::size_t n = 0; n < conditions.size(); ++n) {
+    const core::Case& c = conditions[n];
+    const ShearDeckParams p = read_shear_params(c);
+    const ShearDeck deck = make_shear_deck(p, "particles.data");
+    const std::filesystem::path dir =
+        sweep ? ctx.directory.path() / fmt::format("point_{}", n) : ctx.directory.path();
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "in.granflow") << deck.deck;
+    std::ofstream(dir / "particles.data") << deck.data;
+    const int ranks = static_cast<int>(c.integer("dem.ranks"));
+    const auto command = driver_command(ranks, "in.granflow");
+    std::string label = sweep ? fmt::format("point {}", n) : std::string("DEM shear");
+    for (const auto& [key, value] : c.condition()) label += fmt::format(" {}={:g}", key, value);
+    ctx.log->info(
+        "{}: {} particles, γ̇ = {:g} 1/s, Δt = {:.4g} s = {:g} × min(t_Rayleigh {:.4g} s, "
+        "t_Hertz {:.4g} s at {:.3g} m/s), {} shear steps ({} per sample)",
+        label, p.particles, p.shear_rate, deck.dt, p.dt_safety, deck.times.rayleigh,
+        deck.times.hertz, deck.times.reference_speed, deck.total_steps, deck.sample_every);
+    ctx.log->info("{}: rerun by hand: cd {} && {} > liggghts.out", label, dir.string(),
+                  shell_line(command));
+    core::Progress strain_progress(ctx.log, label + " strain", p.total_strain, 10.0);
+    const auto t0 = std::chrono::steady_clock::now();
+    const int status = run_in_directory(command, dir, dir / "liggghts.out", [&] {
+      const SeriesTable t = read_series_table(dir / "series.tsv");
+      if (t.rows() > 0) strain_progress.update(t.at("strain").back());
+    });
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const std::string group = fmt::format("/conditions/{}", n);  // also for a single point
+    PointResult r = analyse_point(ctx, dir, group, p, deck);
+    r.wall = wall;
+    r.steps = double(deck.total_steps + p.compression_steps);
+    r.particle_steps_per_s = r.particles * r.steps / wall;
+    if (sweep)
+      for (const auto& [key, value] : c.condition()) ctx.result.attribute(group, key, value);
+    if (status != 0) {
+      const std::string error = first_error_line(dir / "liggghts.out");
+      ctx.log->error("{}: granflow-dem exited with status {}: {}", label, status,
+                     error.empty() ? "(no ERROR line)" : error);
+      ctx.log->error("{}: full output in {}; the samples written so far are in result.h5", label,
+                     (dir / "liggghts.out").string());
+      code = status == 3 ? core::exit_numerical : core::exit_external;
+      results.push_back(r);
+      break;
+    }
+    const std::string suffix = sweep ? fmt::format(".{}", n) : "";
+    for (const auto& [name, value] : r.values) ctx.summary.set("steady." + name + suffix, value);
+    ctx.summary.set("dem.particles" + suffix, r.particles);
+    ctx.summary.set("dem.dt" + suffix, r.dt);
+    ctx.summary.set("cost.point_wall_s" + suffix, wall);
+    ctx.summary.set("cost.steps" + suffix, r.steps);
+    if (sweep) ctx.summary.set("cost.particle_steps_per_s" + suffix, r.particle_steps_per_s);
+    total_particle_steps += r.particles * r.steps;
+    total_dem_wall += wall;
+    if (!r.values.empty())
+      ctx.log->info(
+          "{}: steady from strain {:.3g}: μ = {:.4f} ± {:.4f}, φ = {:.4f} ± {:.4f}, "
+          "σ_yy = {:.4g} ± {:.2g} Pa, T = {:.4g} m²/s², I = {:.4g}, Z = {:.3f}; {:.1f} s "
+          "({:.3g} particle-steps/s)",
+          label, r.values["start_strain"], r.values["mu"], r.values["mu_err"], r.values["phi"],
+          r.values["phi_err"], r.values["p"], r.values["p_err"], r.values["T"], r.values["I"],
+          r.values["Z"], wall, r.particle_steps_per_s);
+    results.push_back(r);
+    progress.update(double(n + 1));
+  }
+
+  // Steady table, one row per condition (what calibration reads; docs/dem_dataset.md).
+  struct Column {
+    const char* key;
+    const char* name;
+    const char* unit;
+    const char* doc;
+  };
+  const Column columns[] = {
+      {"mu", "friction", "1", "μ = <τ>/<σ_yy>"},
+      {"mu_err", "friction_err", "1", "standard error of μ (batch means, delta method)"},
+      {"phi", "solid_fraction", "1", "φ"},
+      {"phi_err", "solid_fraction_err", "1", "standard error of φ"},
+      {"e", "void_ratio", "1", "e = 1/φ - 1"},
+      {"T", "granular_temperature", "m^2/s^2", "T about the Lees-Edwards profile"},
+      {"T_err", "granular_temperature_err", "m^2/s^2", "standard error of T"},
+      {"T_scaled", "scaled_temperature", "1", "T / (d γ̇)^2"},
+      {"p", "normal_stress", "Pa", "σ_yy"},
+      {"p_err", "normal_stress_err", "Pa", "standard error of σ_yy"},
+      {"p_mean", "pressure", "Pa", "tr(P)/3"},
+      {"tau", "shear_stress", "Pa", "τ"},
+      {"tau_err", "shear_stress_err", "Pa", "standard error of τ"},
+      {"I", "inertial_number", "1", "I = γ̇ d / sqrt(σ_yy/ρ_p)"},
+      {"I_err", "inertial_number_err", "1", "standard error of I"},
+      {"Z", "coordination", "1", "coordination number"},
+      {"start_strain", "start_strain", "1", "strain where the steady part starts (MSER-5)"},
+      {"profile_deviation", "profile_deviation", "1", "RMS deviation from the linear profile"},
+  };
+  auto& out = ctx.result;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const Column& col : columns) {
+    std::vector<double> v;
+    for (const auto& r : results) {
+      const auto it = r.values.find(col.key);
+      v.push_back(it == r.values.end() ? nan : it->second);
+    }
+    out.write(std::string("/steady/") + col.name, v, col.unit, col.doc);
+  }
+  std::vector<double> rate, friction_p, target, dt, wall;
+  for (std::size_t n = 0; n < results.size(); ++n) {
+    const ShearDeckParams p = read_shear_params(conditions[n]);
+    rate.push_back(p.shear_rate);
+    friction_p.push_back(p.material.particle_friction);
+    target.push_back(p.constant_pressure ? p.normal_stress : p.solid_fraction);
+    dt.push_back(results[n].dt);
+    wall.push_back(results[n].wall);
+  }
+  out.write("/steady/shear_rate", rate, "1/s", "imposed shear rate γ̇");
+  out.write("/steady/particle_friction", friction_p, "1", "μ_p");
+  out.write("/steady/control_target", target, "Pa or 1",
+            "imposed σ_yy (constant_pressure) or φ (constant_volume)");
+  out.write("/steady/dt", dt, "s", "DEM time step");
+  out.write("/steady/wall_s", wall, "s", "wall time of the point");
+  const auto& c0 = ctx.run_case;
+  out.attribute("/steady", "diameter", c0.number("material.diameter"));
+  out.attribute("/steady", "particle_density", c0.number("material.particle_density"));
+  out.attribute("/steady", "restitution", c0.number("material.restitution"));
+  out.attribute("/steady", "control", c0.string("control.mode"));
+  out.attribute("/steady", "schema", "granflow DEM dataset v1 (docs/dem_dataset.md)");
+  out.flush();
+
+  if (!results.empty()) {
+    ctx.summary.set("cost.particle_steps_per_s",
+                    total_particle_steps / std::max(total_dem_wall, 1e-9));
+    if (!sweep) {
+      ctx.summary.set("dem.particles", results[0].particles);
+      ctx.summary.set("dem.dt", results[0].dt);
+    }
+  }
+  if (sweep) ctx.summary.set("sweep.count", double(conditions.size()));
+  if (code == core::exit_ok) ctx.plot("plot_dem.py");
+  return code;
+}
+
+}  // namespace
+
+void register_dem_kinds(core::KindRegistry& registry) {
+  registry.add({"dem", "", "Lees-Edwards periodic simple shear of dry spheres (LIGGGHTS)",
+                shear_schema(), check_shear, run_shear, "cases/dem/dry_point.yaml"});
+}
+
+}  // namespace granflow::dem

@@ -1,0 +1,30 @@
+// Launching granflow-dem as a subprocess (under mpirun for more than one rank).
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace granflow::dem {
+
+// Path of the granflow-dem binary: $GRANFLOW_DEM_DRIVER, else the one built with granflow.
+std::filesystem::path driver_path();
+
+// argv of the run: [mpirun --oversubscribe [--allow-run-as-root] -np N] driver in.granflow.
+std::vector<std::string> driver_command(int ranks, const std::string& deck_name);
+
+// Shell-quoted one-line form of `command` (what the log prints for a rerun by hand).
+std::string shell_line(const std::vector<std::string>& command);
+
+// Runs `command` in `directory` with stdout+stderr to `output_file`; calls `poll` about every
+// `poll_seconds` while it runs. Returns the exit status (128 + signal when killed).
+int run_in_directory(const std::vector<std::string>& command,
+                     const std::filesystem::path& directory,
+                     const std::filesystem::path& output_file, const std::function<void()>& poll,
+                     double poll_seconds = 2.0);
+
+// The first "ERROR..." line (LIGGGHTS / granflow-dem / MPI) of a run's output, or "".
+std::string first_error_line(const std::filesystem::path& output_file);
+
+}  // namespace granflow::dem
