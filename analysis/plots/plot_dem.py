@@ -1,0 +1,129 @@
+#!/usr/bin/env python3
+"""PNG plots of a `kind: dem` run (result.h5, docs/dem_dataset.md).
+Every point: series_N.png (mu, sigma_yy, phi, T against strain, steady start marked) and
+profile_N.png (steady mean velocity profile against the imposed line).
+Sweeps: mu_I.png, phi_I.png, T_I.png with the mu(I) law of model.md section 7 overlaid:
+  mu(I) = mu_s + (mu_2 - mu_s) / (I_0 / I + 1)  (GDR MiDi 2004; Jop et al. 2006:
+  mu_s = 0.38, mu_2 = 0.64, I_0 = 0.28), frictionless mu_s ~ 0.10 (Peyneau & Roux 2008),
+  critical fractions nu_c ~ 0.587 (mu_p = 0.5) and 0.639 (frictionless) (Chialvo et al. 2012).
+Usage: plot_dem.py RUN_DIR"""
+import os
+import sys
+
+import h5py
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+MU_S, MU_2, I_0 = 0.38, 0.64, 0.28
+
+
+def mu_of_I(I, mu_s=MU_S, mu_2=MU_2, i0=I_0):
+    return mu_s + (mu_2 - mu_s) / (i0 / I + 1.0)
+
+
+def point_plots(run, h5, n):
+    g = h5[f"conditions/{n}"]
+    if "series" not in g:
+        return
+    s = g["series"]
+    strain = s["strain"][:]
+    start = g["steady"].attrs.get("start_strain", np.nan) if "steady" in g else np.nan
+    fig, axes = plt.subplots(2, 2, figsize=(11, 6.5), sharex=True)
+    panels = [("mu", "μ = τ/σ_yy"), ("sigma_yy", "σ_yy [Pa]"), ("phi", "φ"), ("T", "T [m²/s²]")]
+    for ax, (name, label) in zip(axes.flat, panels):
+        ax.plot(strain, s[name][:], lw=0.6)
+        if np.isfinite(start):
+            ax.axvline(start, color="k", ls="--", lw=0.8, label="steady start (MSER-5)")
+        if "steady" in g and name in ("mu", "phi", "T"):
+            key = {"mu": "mu", "phi": "phi", "T": "T"}[name]
+            ax.axhline(g["steady"].attrs[key], color="r", lw=0.8, label="steady mean")
+        if name == "sigma_yy" and "normal_stress_target" in g.attrs:
+            ax.axhline(g.attrs["normal_stress_target"], color="g", lw=0.8, label="servo target")
+        ax.set(ylabel=label)
+    for ax in axes[1]:
+        ax.set(xlabel="shear strain")
+    axes[0][0].legend(fontsize=7)
+    fig.suptitle(f"DEM point {n}: γ̇ = {g.attrs['shear_rate']:g} 1/s, μ_p = "
+                 f"{g.attrs['particle_friction']:g}, N = {g.attrs['particles']:.0f}")
+    fig.tight_layout()
+    fig.savefig(os.path.join(run, f"series_{n}.png"), dpi=110)
+    plt.close(fig)
+    if "profile" in g and "steady" in g:
+        v = g["profile/velocity"][:]
+        pstrain = g["profile/strain"][:]
+        steady = v[pstrain >= start] if np.isfinite(start) else v
+        mean = np.nanmean(steady, axis=0)
+        bins = mean.size
+        ly = s["ly"][-1]
+        y = (np.arange(bins) + 0.5) / bins * ly
+        fig, ax = plt.subplots(figsize=(4.5, 4))
+        ax.plot(mean, y * 1e3, "o", label="DEM (steady mean)")
+        ax.plot(g.attrs["shear_rate"] * y, y * 1e3, "k-", lw=0.8, label="imposed γ̇ (y - ylo)")
+        ax.set(xlabel="v_x [m/s]", ylabel="y - ylo [mm]", title="mean velocity profile")
+        ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(os.path.join(run, f"profile_{n}.png"), dpi=110)
+        plt.close(fig)
+
+
+def sweep_plots(run, h5):
+    s = h5["steady"]
+    I, Ie = s["inertial_number"][:], s["inertial_number_err"][:]
+    mu, mue = s["friction"][:], s["friction_err"][:]
+    phi, phie = s["solid_fraction"][:], s["solid_fraction_err"][:]
+    T, Te = s["scaled_temperature"][:], s["granular_temperature_err"][:]
+    Tabs = s["granular_temperature"][:]
+    mup = s["particle_friction"][:]
+    groups = sorted(set(mup))
+    Igrid = np.logspace(-3, 0, 200)
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    for m in groups:
+        k = (mup == m) & np.isfinite(mu)
+        ax.errorbar(I[k], mu[k], xerr=Ie[k], yerr=mue[k], fmt="o", ms=4, label=f"DEM μ_p = {m:g}")
+    ax.semilogx(Igrid, mu_of_I(Igrid), "k-", lw=0.8,
+                label="μ(I), μ_s=0.38, μ_2=0.64, I_0=0.28 (Jop 2006)")
+    ax.axhline(0.10, color="gray", ls=":", lw=0.8, label="frictionless μ_s ≈ 0.10")
+    ax.set(xlabel="I = γ̇ d / sqrt(σ_yy/ρ_p)", ylabel="μ = τ/σ_yy", title="μ(I)")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(run, "mu_I.png"), dpi=120)
+    plt.close(fig)
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    for m in groups:
+        k = (mup == m) & np.isfinite(phi)
+        ax.errorbar(I[k], phi[k], xerr=Ie[k], yerr=phie[k], fmt="o", ms=4, label=f"DEM μ_p = {m:g}")
+    ax.axhline(0.587, color="C0", ls=":", lw=0.8, label="ν_c ≈ 0.587 (μ_p = 0.5)")
+    ax.axhline(0.639, color="C1", ls=":", lw=0.8, label="ν_c ≈ 0.639 (frictionless)")
+    ax.set(xscale="log", xlabel="I", ylabel="φ", title="φ(I)")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(run, "phi_I.png"), dpi=120)
+    plt.close(fig)
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        Tse = T * Te / Tabs
+    for m in groups:
+        k = (mup == m) & np.isfinite(T)
+        ax.errorbar(I[k], T[k], yerr=Tse[k], fmt="o", ms=4, label=f"DEM μ_p = {m:g}")
+    ax.set(xscale="log", yscale="log", xlabel="I", ylabel="T / (d γ̇)²", title="scaled temperature")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(run, "T_I.png"), dpi=120)
+    plt.close(fig)
+
+
+def main():
+    run = sys.argv[1]
+    with h5py.File(os.path.join(run, "result.h5"), "r") as h5:
+        if "conditions" in h5:
+            for n in sorted(h5["conditions"].keys(), key=int):
+                point_plots(run, h5, n)
+        if "steady" in h5 and h5["steady/friction"].shape[0] > 1:
+            sweep_plots(run, h5)
+
+
+if __name__ == "__main__":
+    main()
