@@ -123,3 +123,22 @@ TEST(ForceChainsYield, StressOnLocusAfterPlasticSteps) {
   }
   EXPECT_GT(plastic, 300);  // the paths do load the locus
 }
+
+TEST(ForceChainsYield, NoTensionTestAgreesWithPrincipalStresses) {
+  // is_compressive (principal minors) against the smallest principal stress from the Lode
+  // angle (two independent routes), on random symmetric tensors around the boundary σ_3 = 0
+  std::mt19937 rng(5);
+  int agree = 0, tested = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Eigen::Matrix3d s = 50.0 * Eigen::Matrix3d::Identity() + symmetric(rng, 60.0);
+    const double smin = fc::minimum_principal_stress(s);
+    if (std::abs(smin) < 1e-6 * s.norm()) continue;  // too close to call either way
+    ++tested;
+    agree += fc::is_compressive(s, 1e-12) == (smin > 0.0);
+  }
+  EXPECT_EQ(agree, tested);
+  EXPECT_GT(tested, 1900);
+  // and the σ_3 formula on a known case: triaxial compression p = 10, q = 30 gives σ_3 = 0
+  EXPECT_NEAR(fc::minimum_principal_stress(diag(30, 0, 0)), 0.0, 1e-12);
+  EXPECT_NEAR(fc::minimum_principal_stress(diag(3, 7, 5)), 3.0, 1e-12);
+}

@@ -47,9 +47,8 @@ ForceChainState ForceChainModel::isotropic_state(double p, double void_ratio, do
 bool ForceChainModel::admissible(const Tensor& stress, const Tensor& chi, double r_c) {
   // r > 0 for the locus to be defined, and the no-tension cutoff σ_3 >= 0: grains in contact
   // carry no tension, and beyond σ_3 = 0 (q/p > 3 in compression) the cubic term of the locus
-  // opens it (see docs/model/force_chains.md §2). The tolerance 1e-12 |σ| absorbs round-off.
-  return double_contraction(stress, chi) > kApexRatio * r_c &&
-         minimum_principal_stress(stress) >= -1e-12 * stress.norm();
+  // opens it (see docs/model/force_chains.md §2). The tolerance 1e-12 absorbs round-off.
+  return double_contraction(stress, chi) > kApexRatio * r_c && is_compressive(stress, 1e-12);
 }
 
 double ForceChainModel::safe_yield(const Tensor& stress, const Tensor& chi, double r_c) const {
@@ -131,12 +130,11 @@ ForceChainModel::Increment ForceChainModel::increment(const Point& y, const Tens
   return inc;
 }
 
-void ForceChainModel::correct_drift(Point& y) const {
-  for (int it = 0; it < 4; ++it) {
-    if (!admissible(y.stress, y.chi, y.r_c)) return;
+double ForceChainModel::correct_drift(Point& y) const {
+  if (!admissible(y.stress, y.chi, y.r_c)) return safe_yield(y.stress, y.chi, y.r_c);
+  double f0 = yield_.value(y.stress, y.chi, y.r_c);
+  for (int it = 0; it < 4 && std::abs(f0) > par_.yield_tolerance; ++it) {
     const PlasticRates r = plastic_rates(y);
-    const double f0 = r.value;
-    if (std::abs(f0) <= par_.yield_tolerance) return;
     // consistent correction: move σ, r_c, χ along the plastic flow (Sloan et al. 2001, §4)
     const double dlambda = f0 / r.denominator;
     Point c = y;
@@ -151,10 +149,12 @@ void ForceChainModel::correct_drift(Point& y) const {
       c = y;
       c.stress -= (f0 / double_contraction(r.n, r.n)) * r.n;
       f1 = safe_yield(c.stress, c.chi, c.r_c);
-      if (!(std::abs(f1) < std::abs(f0))) return;
+      if (!(std::abs(f1) < std::abs(f0))) return f0;
     }
     y = c;
+    f0 = f1;
   }
+  return f0;
 }
 
 double ForceChainModel::elastic_fraction(const Point& y, const Tensor& strain, double f0) const {
@@ -209,13 +209,15 @@ double ForceChainModel::elastic_fraction(const Point& y, const Tensor& strain, d
 }
 
 double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& info) const {
-  const double f0 = safe_yield(y.stress, y.chi, y.r_c);
   const Tensor trial = elastic_.finite_update(y.stress, strain);
-  if (safe_yield(trial, y.chi, y.r_c) <= par_.yield_tolerance) {
+  const double f_trial = safe_yield(trial, y.chi, y.r_c);
+  if (f_trial <= par_.yield_tolerance) {
     y.stress = trial;
     y.void_ratio = (1.0 + y.void_ratio) * std::exp(-strain.trace()) - 1.0;
+    info.yield_value = f_trial;
     return 0.0;
   }
+  const double f0 = safe_yield(y.stress, y.chi, y.r_c);
   // from the stress-free state straight into tension: all contact loss
   if (y.stress.norm() <= kApexRatio * y.r_c && !admissible(trial, y.chi, y.r_c)) return 1.0;
   const double alpha = elastic_fraction(y, strain, f0);
@@ -277,7 +279,7 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& in
     }
     y = next;
     y.chi /= y.chi.norm();
-    correct_drift(y);
+    info.yield_value = correct_drift(y);
     t += dt;
     ++info.substeps;
     info.plastic = true;
@@ -364,7 +366,7 @@ UpdateInfo ForceChainModel::update(ForceChainState& state, const Eigen::Matrix3d
   } else {
     state.r_c = y.r_c;
     state.stress = y.stress;
-    info.yield_value = safe_yield(y.stress, y.chi, y.r_c);
+    if (info.contact_loss) info.yield_value = safe_yield(y.stress, y.chi, y.r_c);
   }
   info.plastic_volumetric_strain = (state.plastic_strain - plastic_strain_old).trace();
   if (!(state.stress.allFinite() && state.chi.allFinite() && std::isfinite(state.r_c)))

@@ -90,7 +90,7 @@ class ForceChainModel {
   double safe_yield(const Tensor& stress, const Tensor& chi, double r_c) const;
   PlasticRates plastic_rates(const Point& y) const;
   Increment increment(const Point& y, const Tensor& strain, bool plastic) const;
-  void correct_drift(Point& y) const;
+  double correct_drift(Point& y) const;  // returns the final f
   double elastic_fraction(const Point& y, const Tensor& strain, double f0) const;
   // Integrates `strain` from y; returns the fraction of `strain` left when the stress path hits
   // the stress-free apex (0 when the whole increment was integrated).

@@ -49,4 +49,20 @@ inline double minimum_principal_stress(const Tensor& stress) {
   return p + 2.0 / 3.0 * q * std::cos(theta + 2.0943951023931955);
 }
 
+// σ positive semi-definite (all principal stresses >= 0, compression positive), tested through
+// the principal minors (Sylvester's criterion for semi-definiteness: every principal minor
+// >= 0), each with a relative round-off tolerance; no eigen-solver, no transcendental call.
+inline bool is_compressive(const Tensor& s, double tolerance) {
+  const double scale = s.cwiseAbs().maxCoeff();
+  const double t1 = -tolerance * scale, t2 = t1 * scale, t3 = t2 * scale;
+  if (s(0, 0) < t1 || s(1, 1) < t1 || s(2, 2) < t1) return false;
+  const double m01 = s(0, 0) * s(1, 1) - s(0, 1) * s(1, 0);
+  const double m02 = s(0, 0) * s(2, 2) - s(0, 2) * s(2, 0);
+  const double m12 = s(1, 1) * s(2, 2) - s(1, 2) * s(2, 1);
+  if (m01 < t2 || m02 < t2 || m12 < t2) return false;
+  const double det = s(0, 0) * m12 - s(0, 1) * (s(1, 0) * s(2, 2) - s(1, 2) * s(2, 0)) +
+                     s(0, 2) * (s(1, 0) * s(2, 1) - s(1, 1) * s(2, 0));
+  return det >= t3;
+}
+
 }  // namespace granflow::model::force_chains
