@@ -15,7 +15,7 @@ LinearElastic::LinearElastic(double E, double nu, double rho_s) : grain_density_
 
 void LinearElastic::update_stress(const StressUpdateView& v, double dt) {
   const double lam = lambda_, G2 = 2.0 * shear_modulus_;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(v.threads) if (v.threads > 1)
   for (std::size_t p = begin_; p < end_; ++p) {
     const double Dxx = v.Lxx[p], Dyy = v.Lyy[p], Dxy = 0.5 * (v.Lxy[p] + v.Lyx[p]);
     const double Wxy = 0.5 * (v.Lxy[p] - v.Lyx[p]);  // W = [[0, Wxy], [-Wxy, 0]]

@@ -25,6 +25,7 @@ struct StressUpdateView {
   double* syy;
   double* szz;
   double* sxy;
+  int threads;  // OpenMP threads the solver runs with (a material may parallelize its loop)
 };
 
 class SolidMaterial {

@@ -45,6 +45,9 @@ Solver::Solver(Grid grid, SolverOptions options, LiquidOptions liquid)
       throw std::invalid_argument("GIMP half-lengths must be in (0, h/2]");
     }
   }
+  if (options_.liquid_volumetric_smoothing && options_.shape != ShapeKind::linear) {
+    throw std::invalid_argument("liquid volumetric smoothing needs linear shape functions");
+  }
   if (!(options_.flip >= 0.0 && options_.flip <= 1.0)) {
     throw std::invalid_argument("flip fraction must be in [0, 1]");
   }
@@ -94,6 +97,11 @@ void Solver::fix_velocity(Phase phase, int node, Frame frame, int component, dou
   c.ramp[node] = ramp_time;
 }
 
+void Solver::add_nodal_force(Phase phase, int node, double fx, double fy) {
+  if (node < 0 || node >= nn_) throw std::invalid_argument("add_nodal_force: node out of range");
+  nodal_forces_.push_back({static_cast<int>(phase), node, fx, fy});
+}
+
 void Solver::initialize() {
   threads_ = options_.threads > 0 ? options_.threads : omp_get_max_threads();
   acc_.assign(static_cast<std::size_t>(NF) * nn_, 0.0);
@@ -106,6 +114,8 @@ void Solver::initialize() {
   }
   nodes_.porosity.assign(nn_, 1.0);
   div_solid_.assign(liquid_.size(), 0.0);
+  volumetric_rate_.assign(liquid_.size(), 0.0);
+  liquid_cell_.assign(liquid_.size(), 0);
 
   // Material ranges: contiguous runs of the same index.
   const std::size_t ns = solid_.size();
@@ -278,7 +288,7 @@ void Solver::scatter(int fields, Body&& body) {
     return;
   }
   const std::size_t stride = static_cast<std::size_t>(NF) * nn_;
-#pragma omp parallel num_threads(threads_)
+#pragma omp parallel num_threads(threads_) if (threads_ > 1)
   {
     const int t = omp_get_thread_num();
     double* mine = scratch_.data() + stride * t;
@@ -402,12 +412,17 @@ void Solver::solve_porosity_only() {
 void Solver::solve_nodes() {
   const bool wet = liquid_.size() > 0;
   const int nn = nn_;
+  for (const auto& f : nodal_forces_) {
+    if (f.phase == 1 && !wet) continue;
+    acc_[(f.phase == 0 ? FXS : FXL) * nn + f.node] += f.fx;
+    acc_[(f.phase == 0 ? FYS : FYL) * nn + f.node] += f.fy;
+  }
   const double dt = dt_, s = options_.mass_scaling, alpha = options_.local_damping;
   const double floor = mass_floor_ * s;
   const bool implicit_drag = options_.drag_integration == DragIntegration::semi_implicit;
   double* A = acc_.data();
   NodeFields& out = nodes_;
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
   for (int a = 0; a < nn; ++a) {
     const double ms = A[MS * nn + a];
     const double n = ms > floor ? std::clamp(A[NMS * nn + a] / (ms / s), 0.0, 1.0) : 1.0;
@@ -538,7 +553,7 @@ void Solver::update_points(const G& grid) {
   auto g2p = [&](PointFields& pts, const double* vx, const double* vy, const double* ax,
                  const double* ay, bool extras) {
     const long n = static_cast<long>(pts.size());
-#pragma omp parallel num_threads(threads_)
+#pragma omp parallel num_threads(threads_) if (threads_ > 1)
     {
       Stencil st{};
 #pragma omp for schedule(static)
@@ -576,6 +591,8 @@ void Solver::update_points(const G& grid) {
           pts.Lyy[p] = Lyy;
           if (extras) {
             div_solid_[p] = div_s;
+            liquid_cell_[p] = st.node[0];
+            liquid_cell_[p] = st.node[0];
             liquid_.porosity[p] = std::clamp(n_at, 1e-3, 1.0);
           }
         }
@@ -623,7 +640,7 @@ void Solver::remap_momentum(const G& grid) {
   const double floor = mass_floor_ * s;
   const double* A = acc_.data();
   NodeFields& out = nodes_;
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
   for (int a = 0; a < nn; ++a) {
     const double ms = A[R_MS * nn + a];
     out.vx_solid[a] = ms > floor ? A[R_PXS * nn + a] / ms : 0.0;
@@ -643,7 +660,7 @@ void Solver::velocity_gradients(const G& grid, bool liquid_extras) {
   const double lx = options_.gimp_half_length_x, ly = options_.gimp_half_length_y;
   auto grad = [&](PointFields& pts, const double* vx, const double* vy, bool extras) {
     const long n = static_cast<long>(pts.size());
-#pragma omp parallel num_threads(threads_)
+#pragma omp parallel num_threads(threads_) if (threads_ > 1)
     {
       Stencil st{};
 #pragma omp for schedule(static)
@@ -667,6 +684,7 @@ void Solver::velocity_gradients(const G& grid, bool liquid_extras) {
         pts.Lyy[p] = Lyy;
         if (extras) {
           div_solid_[p] = div_s;
+          liquid_cell_[p] = st.node[0];
           liquid_.porosity[p] = std::clamp(n_at, 1e-3, 1.0);
         }
       }
@@ -691,14 +709,16 @@ void Solver::refresh_liquid_state() {
 void Solver::constitutive_update() {
   const double dt = dt_;
   // Solid: one call per material over its range, then volume and porosity.
-  StressUpdateView view{solid_.Lxx.data(), solid_.Lxy.data(),      solid_.Lyx.data(),
-                        solid_.Lyy.data(), solid_.porosity.data(), solid_.temperature.data(),
-                        solid_.sxx.data(), solid_.syy.data(),      solid_.szz.data(),
-                        solid_.sxy.data()};
+  StressUpdateView view{
+      solid_.Lxx.data(),      solid_.Lxy.data(),         solid_.Lyx.data(), solid_.Lyy.data(),
+      solid_.porosity.data(), solid_.temperature.data(), solid_.sxx.data(), solid_.syy.data(),
+      solid_.szz.data(),      solid_.sxy.data(),         threads_};
   for (auto& m : materials_) m->update_stress(view, dt);
   const long ns = static_cast<long>(solid_.size());
   long bad_solid = -1;
-#pragma omp parallel for schedule(static) num_threads(threads_) reduction(max : bad_solid)
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1) \
+    reduction(max                                                                 \
+              : bad_solid)
   for (long p = 0; p < ns; ++p) {
     // dV/V = tr(D) dt (plane strain); grains incompressible: n = 1 - V_s / V.
     solid_.volume[p] *= 1.0 + dt * (solid_.Lxx[p] + solid_.Lyy[p]);
@@ -720,14 +740,39 @@ void Solver::constitutive_update() {
   if (nl == 0) return;
   const double K = liquid_options_.bulk_modulus, rho0 = liquid_options_.density;
   const bool viscous = liquid_options_.viscosity > 0.0;
+  // Volumetric rate of the mixture seen by the liquid: n tr(D_L) + (1 - n) tr(D_S).
+  double* rate = volumetric_rate_.data();
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
+  for (long p = 0; p < nl; ++p) {
+    const double n = liquid_.porosity[p];
+    rate[p] = n * (liquid_.Lxx[p] + liquid_.Lyy[p]) + (1.0 - n) * div_solid_[p];
+  }
+  if (options_.liquid_volumetric_smoothing) {
+    // Cell average of the volumetric rate (volume-weighted over the liquid points of each cell,
+    // cells keyed by their first node): removes the checkerboard pressure modes of equal-order
+    // velocity/pressure interpolation (Anura3D's strain smoothing; Mast et al. 2012).
+    const int nn = nn_;
+    scatter(2, [&](double* acc, int t, int T) {
+      std::size_t b, e;
+      chunk(static_cast<std::size_t>(nl), t, T, b, e);
+      for (std::size_t p = b; p < e; ++p) {
+        acc[liquid_cell_[p]] += liquid_.volume[p] * rate[p];
+        acc[nn + liquid_cell_[p]] += liquid_.volume[p];
+      }
+    });
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
+    for (long p = 0; p < nl; ++p) rate[p] = acc_[liquid_cell_[p]] / acc_[nn + liquid_cell_[p]];
+  }
   long bad_liquid = -1;
-#pragma omp parallel for schedule(static) num_threads(threads_) reduction(max : bad_liquid)
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1) \
+    reduction(max                                                                 \
+              : bad_liquid)
   for (long p = 0; p < nl; ++p) {
     const double n = liquid_.porosity[p];
     const double tr_l = liquid_.Lxx[p] + liquid_.Lyy[p];
     // Storage equation of the double-point formulation (incompressible grains):
     //   dp = -(K_w / n) [ n tr(D_L) + (1 - n) tr(D_S) ] dt
-    liquid_.pressure[p] -= dt * (K / n) * (n * tr_l + (1.0 - n) * div_solid_[p]);
+    liquid_.pressure[p] -= dt * (K / n) * rate[p];
     // Mixture volume the point stands for: V = m / (n ρ_w), ρ_w = ρ_w0 exp(p / K_w).
     liquid_.volume[p] = liquid_.mass[p] / (n * rho0 * std::exp(liquid_.pressure[p] / K));
     if (viscous) {

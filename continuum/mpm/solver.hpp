@@ -51,8 +51,9 @@ struct SolverOptions {
   double mass_scaling = 1.0;  // inertial masses x this factor (gravity keeps the true mass)
   DragIntegration drag_integration = DragIntegration::semi_implicit;
   double gimp_half_length_x = 0.0, gimp_half_length_y = 0.0;  // GIMP particle half-sizes, m
-  long dt_update_interval = 50;  // recompute the critical step every so many steps
-  int threads = 0;               // 0: OpenMP default
+  bool liquid_volumetric_smoothing = false;  // cell-averaged volumetric rate for p (linear)
+  long dt_update_interval = 50;              // recompute the critical step every so many steps
+  int threads = 0;                           // 0: OpenMP default
 };
 
 // Critical time steps (before the CFL factor) of each mechanism, s; +inf when absent.
@@ -101,6 +102,10 @@ class Solver {
   // `value` linearly over `ramp_time` (0: at once).
   void fix_velocity(Phase phase, int node, Frame frame, int component, double value,
                     double ramp_time = 0.0);
+
+  // A constant force on a node of a phase (N per m thickness): tractions on grid-aligned
+  // boundaries (traction x tributary length), valid while the surface stays on that grid line.
+  void add_nodal_force(Phase phase, int node, double fx, double fy);
 
   // After the points are filled: checks, material ranges, porosity, drag, the time step.
   void initialize();
@@ -167,6 +172,12 @@ class Solver {
     std::vector<int> list;  // nodes with a condition
   } conditions_[2];
 
+  struct NodalForce {
+    int phase, node;
+    double fx, fy;
+  };
+  std::vector<NodalForce> nodal_forces_;
+
   int nn_ = 0;
   int threads_ = 1;
   std::vector<double> acc_;      // reduced nodal accumulators, field-major
@@ -174,6 +185,8 @@ class Solver {
   // nodal solution
   std::vector<double> asx_, asy_, alx_, aly_, porosity_;
   std::vector<double> div_solid_;  // tr(D_S) at the liquid points
+  std::vector<double> volumetric_rate_;
+  std::vector<int> liquid_cell_;  // first node of the cell holding each liquid point
   NodeFields nodes_;
 
   double dt_ = 0, time_ = 0;
