@@ -24,23 +24,28 @@ double isotropic_pressure(const fc::ForceChainParameters& p, double p0, double e
 }  // namespace
 
 TEST(ForceChainsElastic, IsotropicUnloadingFollowsPowerLaw) {
-  const auto par = params();
-  const fc::ForceChainModel model(par);
-  // overconsolidated: r_c = 4 √3 p, so isotropic unloading and reloading stay inside the locus
-  auto s = model.isotropic_state(80e3, 0.7, 4.0);
-  double ev = 0;
-  for (int i = 0; i < 200; ++i) {  // unload: ε_v = -6e-4 in 200 increments
-    const auto info = model.update(s, diag(-1e-6, -1e-6, -1e-6), 1e-3, 0.0);
-    ev -= 3e-6;
-    ASSERT_FALSE(info.plastic) << "step " << i;
+  // n = 0.5 (default, sqrt fast path), a generic exponent, and n = 0 (linear)
+  for (double n : {0.5, 0.6, 0.0}) {
+    auto par = params();
+    par.elastic_exponent = n;
+    const fc::ForceChainModel model(par);
+    // overconsolidated: r_c = 4 √3 p, so isotropic unloading stays inside the locus
+    auto s = model.isotropic_state(80e3, 0.7, 4.0);
+    double ev = 0;
+    for (int i = 0; i < 200; ++i) {  // unload: ε_v = -6e-4 in 200 increments
+      const auto info = model.update(s, diag(-1e-6, -1e-6, -1e-6), 1e-3, 0.0);
+      ev -= 3e-6;
+      ASSERT_FALSE(info.plastic) << "step " << i;
+    }
+    const double expected = isotropic_pressure(par, 80e3, ev);
+    // the finite update is exact along straight paths; 1e-10 relative is round-off of the
+    // 200 compositions
+    EXPECT_NEAR(fc::testing::p_of(s), expected, 1e-10 * expected) << n;
+    EXPECT_LT(expected, 0.9 * 80e3);  // the path did unload substantially
+    EXPECT_NEAR(fc::testing::q_of(s), 0.0, 1e-9 * expected);
+    // void ratio: 1+e ∝ exp(-ε_v) (exact Lagrangian volume change)
+    EXPECT_NEAR(s.void_ratio, 1.7 * std::exp(-ev) - 1.0, 1e-12);
   }
-  const double expected = isotropic_pressure(par, 80e3, ev);
-  // the finite update is exact along straight paths; 1e-10 relative is round-off of the
-  // 200 compositions
-  EXPECT_NEAR(fc::testing::p_of(s), expected, 1e-10 * expected);
-  EXPECT_NEAR(fc::testing::q_of(s), 0.0, 1e-9 * expected);
-  // void ratio: 1+e ∝ exp(-ε_v) (exact Lagrangian volume change)
-  EXPECT_NEAR(s.void_ratio, 1.7 * std::exp(-ev) - 1.0, 1e-12);
 }
 
 TEST(ForceChainsElastic, DeviatoricStrainAtConstantPressureGivesThreeG) {

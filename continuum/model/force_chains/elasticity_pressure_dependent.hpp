@@ -22,10 +22,12 @@ class PressureDependentElasticity {
         n_(p.elastic_exponent),
         p_floor_(p.pressure_floor),
         shear_to_bulk_(1.5 * (1.0 - 2.0 * p.poisson_ratio) / (1.0 + p.poisson_ratio)),
-        k_floor_(k_ref_ * std::pow(p_floor_ / p_ref_, n_)) {}
+        k_floor_(k_ref_ * std::pow(p_floor_ / p_ref_, n_)),
+        power_coefficient_((1.0 - n_) * k_ref_ / std::pow(p_ref_, n_)),
+        u_floor_(std::pow(p_floor_, 1.0 - n_)) {}
 
   double bulk_modulus(double p) const {
-    return p > p_floor_ ? k_ref_ * std::pow(p / p_ref_, n_) : k_floor_;
+    return p > p_floor_ ? k_ref_ * power(p / p_ref_, n_) : k_floor_;
   }
   double shear_modulus(double p) const { return shear_to_bulk_ * bulk_modulus(p); }
   double shear_to_bulk() const { return shear_to_bulk_; }
@@ -56,12 +58,10 @@ class PressureDependentElasticity {
       p = p_floor_;
     }
     // power branch: u = p^{1-n} is linear in ε_v
-    const double c = (1.0 - n_) * k_ref_ / std::pow(p_ref_, n_);
-    const double u0 = std::pow(p, 1.0 - n_);
-    const double u = u0 + c * remaining;
-    const double u_floor = std::pow(p_floor_, 1.0 - n_);
-    if (u >= u_floor) return std::pow(u, 1.0 / (1.0 - n_));
-    const double strain_to_floor = (u_floor - u0) / c;  // < 0
+    const double u0 = power(p, 1.0 - n_);
+    const double u = u0 + power_coefficient_ * remaining;
+    if (u >= u_floor_) return power(u, 1.0 / (1.0 - n_));
+    const double strain_to_floor = (u_floor_ - u0) / power_coefficient_;  // < 0
     return p_floor_ + k_floor_ * (remaining - strain_to_floor);
   }
 
@@ -79,7 +79,17 @@ class PressureDependentElasticity {
   }
 
  private:
-  double k_ref_, p_ref_, n_, p_floor_, shear_to_bulk_, k_floor_;
+  // x^e with the exponents of the default n = 0.5 (and n = 0) without a call to pow, which
+  // otherwise dominates the cost of a plastic update
+  static double power(double x, double e) {
+    if (e == 0.5) return std::sqrt(x);
+    if (e == 2.0) return x * x;
+    if (e == 1.0) return x;
+    if (e == 0.0) return 1.0;
+    return std::pow(x, e);
+  }
+
+  double k_ref_, p_ref_, n_, p_floor_, shear_to_bulk_, k_floor_, power_coefficient_, u_floor_;
 };
 
 }  // namespace granflow::model::force_chains
