@@ -14,8 +14,9 @@ constexpr double kInvSqrt3 = 0.57735026918962576;
 // f is clipped to ±kYieldClip for the root searches; it is dimensionless and O(1..10) on and
 // near the locus, so the clip only acts at the stress-free origin (-) and in tension (+).
 constexpr double kYieldClip = 1.0e3;
-// The stress-free apex is reached when r <= kApexRatio r_c (r/r_c = 1e-9 is 20 e-folds below
-// the smallest r/r_c the locus has in the no-tension region for γ ≈ 4, β_f ≈ 0.5).
+// The stress-free apex is reached when r <= kApexRatio r_c: far below the smallest r/r_c of the
+// locus inside the no-tension cone, exp(-17.25/(3β_f(γ-3))) at σ_3 = 0 in compression for an
+// isotropic axis (0.03 for the defaults, 3e-5 for β_f = 0.5, γ = 4.1).
 constexpr double kApexRatio = 1.0e-9;
 }  // namespace
 
