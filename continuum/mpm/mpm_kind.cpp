@@ -1,0 +1,535 @@
+#include "continuum/mpm/mpm_kind.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <optional>
+
+#include "continuum/mpm/analytic.hpp"
+#include "continuum/mpm/checkpoint.hpp"
+#include "continuum/mpm/field_writer.hpp"
+#include "continuum/mpm/problems.hpp"
+
+namespace granflow::mpm {
+
+namespace {
+
+// ---- schema -------------------------------------------------------------------------------------
+
+struct NumericsDefaults {
+  const char* flip = "1.0";
+  const char* local_damping = "0.0";
+  const char* smoothing = "false";
+};
+
+void add_numerics(core::Schema& s, NumericsDefaults d) {
+  auto& n = s.section("numerics", "MPM algorithm choices (docs/mpm.md)");
+  n.choice("shape", {"linear", "gimp"}, "shape functions (gimp: Cartesian grids only)")
+      .default_value("linear");
+  n.choice("scheme", {"musl", "usl"}, "update scheme: modified USL or USL").default_value("musl");
+  n.number("flip", "1", "FLIP fraction of the point velocity update (1 FLIP, 0 PIC)")
+      .default_value(d.flip)
+      .at_least(0)
+      .at_most(1);
+  n.number("local_damping", "1", "Cundall local damping coefficient α")
+      .default_value(d.local_damping)
+      .at_least(0)
+      .less_than(1);
+  n.number("cfl_factor", "1", "Δt = factor × critical step (CFL over both phases, viscous, drag)")
+      .default_value("0.5")
+      .greater_than(0)
+      .at_most(1);
+  n.number("time_step", "s", "fixed Δt (0: from the critical step); the critical one is reported")
+      .default_value("0")
+      .at_least(0);
+  n.number("mass_scaling", "1", "inertial masses × this factor (a reported modelling choice)")
+      .default_value("1")
+      .at_least(1);
+  n.choice("drag_integration", {"semi_implicit", "explicit"},
+           "nodal drag: backward Euler in the drag (stable for any β) or explicit Euler "
+           "(then Δt also obeys the drag time scale)")
+      .default_value("semi_implicit");
+  n.boolean("liquid_volumetric_smoothing",
+            "cell-averaged volumetric rate for the liquid pressure (linear shapes)")
+      .default_value(d.smoothing);
+  n.integer("threads", "OpenMP threads (0: OMP_NUM_THREADS / all cores)")
+      .default_value("0")
+      .at_least(0);
+  auto& o = s.section("output", "field files and checkpoint");
+  o.integer("frames", "HDF5+XDMF field outputs evenly spaced in time, plus t = 0 (0: none)")
+      .default_value("10")
+      .at_least(0);
+  o.boolean("checkpoint", "write checkpoint.h5 (all point arrays and the clock) at the end")
+      .default_value("false");
+  o.string("restart_from", "checkpoint file to continue from (same case)");
+}
+
+core::Schema terzaghi_schema() {
+  core::Schema s = core::kind_header(
+      "mpm", "terzaghi",
+      "Terzaghi 1D consolidation with the two-phase double-point MPM: drained top, impermeable "
+      "base, pore pressure isochrones and settlement against the analytic series.");
+  auto& g = s.section("geometry", "layer and background grid");
+  g.number("height", "m", "layer height H").default_value("1.0").greater_than(0);
+  g.number("width", "m", "column width (a multiple of the cell size)")
+      .default_value("0.1")
+      .greater_than(0);
+  g.number("cell", "m", "square cell size h").default_value("0.1").greater_than(0).sweepable();
+  g.integer("points_per_cell", "material points per cell and direction (each phase)")
+      .default_value("2")
+      .at_least(1);
+  g.integer("empty_rows", "empty grid rows above the layer (expelled liquid)")
+      .default_value("2")
+      .at_least(1);
+  auto& m = s.section("solid", "solid skeleton (solid points)");
+  m.choice("material", {"linear_elastic"}, "constitutive model of the solid points")
+      .default_value("linear_elastic");
+  m.number("young_modulus", "Pa", "E").default_value("1.0e7").greater_than(0);
+  m.number("poisson_ratio", "1", "ν").default_value("0.0").at_least(0).less_than(0.5);
+  m.number("porosity", "1", "n").default_value("0.3").greater_than(0).less_than(1);
+  m.number("density", "kg/m^3", "grain density ρ_s").default_value("2650").greater_than(0);
+  auto& l = s.section("liquid", "pore liquid (liquid points)");
+  l.number("density", "kg/m^3", "ρ_w").default_value("1000").greater_than(0);
+  l.number("bulk_modulus", "Pa", "K_w (2.2e9 for water; a reduced value is a reported choice)")
+      .default_value("1.0e8")
+      .greater_than(0);
+  l.number("hydraulic_conductivity", "m/s", "Darcy k_D: β = n² ρ_w g / k_D")
+      .default_value("1.0e-3")
+      .greater_than(0);
+  l.number("darcy_gravity", "m/s^2", "g in γ_w = ρ_w g of k_D")
+      .default_value("9.81")
+      .greater_than(0);
+  auto& ld = s.section("loading", "surface load");
+  ld.number("load", "Pa", "total-stress load q on the top").default_value("1.0e4").greater_than(0);
+  ld.boolean("undrained_start",
+             "start from the undrained state at t = 0+ (Terzaghi's initial condition); false: "
+             "sudden load on an unstressed column")
+      .default_value("true");
+  auto& r = s.section("run", "duration and checks");
+  r.number_list("isochrones", "1",
+                "time factors T_v = c_v t / H² of the checked isochrones; the "
+                "run ends at the last")
+      .default_value("[0.05, 0.2, 0.5]")
+      .greater_than(0);
+  add_numerics(s, {});
+  return s;
+}
+
+core::Schema couette_schema() {
+  core::Schema s = core::kind_header(
+      "mpm", "couette",
+      "Couette flow of a Newtonian liquid alone between two cylinders on the polar O-grid: the "
+      "steady v_θ = A r + B / r.");
+  auto& g = s.section("geometry", "annulus and polar grid");
+  g.number("inner_radius", "m", "R1 (fixed wall)").default_value("1.0").greater_than(0);
+  g.number("outer_radius", "m", "R2 (moving wall)").default_value("2.0").greater_than(0);
+  g.integer("cells_r", "radial cells").default_value("10").at_least(1).sweepable();
+  g.integer("cells_theta", "tangential cells").default_value("64").at_least(8).sweepable();
+  g.integer("points_per_cell", "points per cell and direction").default_value("2").at_least(1);
+  auto& l = s.section("liquid", "liquid points");
+  l.number("density", "kg/m^3", "ρ_w").default_value("1000").greater_than(0);
+  l.number("viscosity", "Pa s", "Newtonian viscosity η0").default_value("1000").greater_than(0);
+  l.number("bulk_modulus", "Pa", "K_w (reduced: a reported choice)")
+      .default_value("1.0e6")
+      .greater_than(0);
+  auto& ld = s.section("loading", "wall motion");
+  ld.number("wall_velocity", "m/s", "v_θ of the outer wall").default_value("1.0").greater_than(0);
+  auto& r = s.section("run", "duration and checks");
+  r.number("end_time", "s", "simulated time").default_value("2.0").greater_than(0);
+  r.number("average_from", "s", "grid velocity averaged from this time to the end")
+      .default_value("1.5")
+      .at_least(0);
+  add_numerics(s, {"1.0", "0.0", "true"});
+  return s;
+}
+
+core::Schema column_schema() {
+  core::Schema s = core::kind_header(
+      "mpm", "elastic_column",
+      "Elastic column under gravity on a fixed base with roller sides, brought to rest with local "
+      "damping: σ_yy = -ρ g (H - y) at the points.");
+  auto& g = s.section("geometry", "column and grid");
+  g.number("width", "m", "column width").default_value("0.2").greater_than(0);
+  g.number("height", "m", "column height H").default_value("1.0").greater_than(0);
+  g.number("cell", "m", "square cell size h").default_value("0.05").greater_than(0).sweepable();
+  g.integer("points_per_cell", "points per cell and direction").default_value("2").at_least(1);
+  g.integer("empty_rows", "empty grid rows above").default_value("2").at_least(1);
+  auto& m = s.section("solid", "solid points");
+  m.choice("material", {"linear_elastic"}, "constitutive model").default_value("linear_elastic");
+  m.number("young_modulus", "Pa", "E").default_value("1.0e6").greater_than(0);
+  m.number("poisson_ratio", "1", "ν").default_value("0.3").at_least(0).less_than(0.5);
+  m.number("density", "kg/m^3", "ρ").default_value("2000").greater_than(0);
+  auto& ld = s.section("loading", "body force");
+  ld.number("gravity", "m/s^2", "g").default_value("9.81").greater_than(0);
+  auto& r = s.section("run", "duration");
+  r.number("end_time", "s", "simulated time").default_value("1.5").greater_than(0);
+  add_numerics(s, {"1.0", "0.3", "false"});
+  return s;
+}
+
+// ---- reading
+// -------------------------------------------------------------------------------------
+
+SolverOptions read_options(const core::Case& c) {
+  SolverOptions o;
+  o.shape = c.string("numerics.shape") == "gimp" ? ShapeKind::gimp : ShapeKind::linear;
+  o.scheme = c.string("numerics.scheme") == "usl" ? UpdateScheme::usl : UpdateScheme::musl;
+  o.flip = c.number("numerics.flip");
+  o.local_damping = c.number("numerics.local_damping");
+  o.cfl_factor = c.number("numerics.cfl_factor");
+  o.fixed_dt = c.number("numerics.time_step");
+  o.mass_scaling = c.number("numerics.mass_scaling");
+  o.drag_integration = c.string("numerics.drag_integration") == "explicit"
+                           ? DragIntegration::explicit_euler
+                           : DragIntegration::semi_implicit;
+  o.liquid_volumetric_smoothing = c.boolean("numerics.liquid_volumetric_smoothing");
+  o.threads = static_cast<int>(c.integer("numerics.threads"));
+  return o;
+}
+
+void check_common(const core::Case& c) {
+  if (c.boolean("numerics.liquid_volumetric_smoothing") && c.string("numerics.shape") == "gimp")
+    c.fail("numerics.liquid_volumetric_smoothing", "false with gimp (cell averaging needs linear)");
+}
+
+bool multiple(double length, double cell) {
+  const double k = length / cell;
+  return std::fabs(k - std::round(k)) < 1e-9 * std::max(1.0, k) && std::round(k) >= 1;
+}
+
+void check_terzaghi(const core::Case& c) {
+  check_common(c);
+  if (!multiple(c.number("geometry.height"), c.number("geometry.cell")))
+    c.fail("geometry.cell", "a cell size that divides geometry.height");
+  if (!multiple(c.number("geometry.width"), c.number("geometry.cell")))
+    c.fail("geometry.width", "a multiple of geometry.cell");
+}
+
+void check_couette(const core::Case& c) {
+  check_common(c);
+  if (c.string("numerics.shape") != "linear")
+    c.fail("numerics.shape", "linear (the polar grid has linear shape functions only)");
+  if (!(c.number("geometry.outer_radius") > c.number("geometry.inner_radius")))
+    c.fail("geometry.outer_radius", "a value > geometry.inner_radius");
+  if (!(c.number("run.average_from") < c.number("run.end_time")))
+    c.fail("run.average_from", "a time < run.end_time");
+}
+
+void check_column(const core::Case& c) {
+  check_common(c);
+  if (!multiple(c.number("geometry.height"), c.number("geometry.cell")))
+    c.fail("geometry.cell", "a cell size that divides geometry.height");
+  if (!multiple(c.number("geometry.width"), c.number("geometry.cell")))
+    c.fail("geometry.width", "a multiple of geometry.cell");
+}
+
+// ---- running -----------------------------------------------------------------------------------
+
+// Runs the solver to `end_time`, with field frames, progress, failure translation; `sample` is
+// called after every step. Returns the solver wall time.
+template <class Sample>
+double advance(core::RunContext& ctx, Solver& s, double end_time, FieldWriter* fields, int frames,
+               Sample&& sample) {
+  core::Progress progress(ctx.log, "simulated time", end_time);
+  const auto start = std::chrono::steady_clock::now();
+  int next_frame = 1;
+  try {
+    if (fields && s.steps() == 0) fields->write(s);
+    while (s.time() < end_time - 0.5 * s.dt()) {
+      s.step();
+      sample();
+      if (fields && frames > 0 && s.time() >= end_time * next_frame / frames - 0.5 * s.dt()) {
+        fields->write(s);
+        ++next_frame;
+      }
+      progress.update(s.time());
+    }
+  } catch (const SolverFailure& f) {
+    throw core::NumericalFailure(f.step, f.point, f.variable, f.value, f.what());
+  }
+  progress.finish();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void report_setup(core::RunContext& ctx, const Solver& s) {
+  const auto& L = s.limits();
+  ctx.log->info(
+      "mpm: {} solid + {} liquid points, {} grid nodes, {} thread(s); Δt = {:.4g} s (critical: "
+      "wave {:.4g}, viscous {:.4g}, drag {:.4g} s; factor {:g}{})",
+      s.solid().size(), s.liquid().size(), s.grid_nodes(), s.threads(), s.dt(), L.wave, L.viscous,
+      L.drag, s.options().cfl_factor, s.options().fixed_dt > 0 ? ", fixed Δt given" : "");
+  if (s.options().mass_scaling > 1)
+    ctx.log->warn("mass scaling × {:g}: inertia is not physical (modelling choice)",
+                  s.options().mass_scaling);
+  if (s.liquid().size() > 0 && s.liquid_options().bulk_modulus < 2.2e9)
+    ctx.log->info(
+        "reduced liquid bulk modulus K_w = {:.3g} Pa (water: 2.2e9 Pa), a modelling "
+        "choice",
+        s.liquid_options().bulk_modulus);
+}
+
+void common_summary(core::RunContext& ctx, const Solver& s, double wall, double ms0, double ml0) {
+  auto& sum = ctx.summary;
+  const double points = static_cast<double>(s.solid().size() + s.liquid().size());
+  sum.set("cost.steps", static_cast<double>(s.steps()));
+  sum.set("cost.solver_wall_s", wall);
+  sum.set("cost.particle_updates_per_s", points * s.steps() / std::max(wall, 1e-9));
+  sum.set("mpm.particles_solid", static_cast<double>(s.solid().size()));
+  sum.set("mpm.particles_liquid", static_cast<double>(s.liquid().size()));
+  sum.set("mpm.dt", s.dt());
+  sum.set("mpm.dt_critical", s.limits().critical());
+  sum.set("mpm.threads", s.threads());
+  sum.set("mpm.mass_scaling", s.options().mass_scaling);
+  if (s.liquid().size() > 0) sum.set("mpm.bulk_modulus", s.liquid_options().bulk_modulus);
+  sum.set("mass.solid_rel_change",
+          ms0 > 0 ? std::fabs(s.total_mass(Phase::solid) - ms0) / ms0 : 0.0);
+  sum.set("mass.liquid_rel_change",
+          ml0 > 0 ? std::fabs(s.total_mass(Phase::liquid) - ml0) / ml0 : 0.0);
+}
+
+void finish_output(core::RunContext& ctx, const Solver& s) {
+  if (ctx.run_case.boolean("output.checkpoint")) {
+    write_checkpoint(ctx.directory / "checkpoint.h5", s);
+    ctx.log->info("checkpoint written: {}", (ctx.directory / "checkpoint.h5").string());
+  }
+}
+
+void maybe_restart(core::RunContext& ctx, Solver& s) {
+  if (!ctx.run_case.has("output.restart_from")) return;
+  const std::string file = ctx.run_case.string("output.restart_from");
+  if (file.empty()) return;
+  read_checkpoint(file, s);
+  ctx.log->info("restarted from {} at t = {:.6g} s (step {})", file, s.time(), s.steps());
+}
+
+std::unique_ptr<FieldWriter> field_writer(core::RunContext& ctx) {
+  if (ctx.run_case.integer("output.frames") <= 0) return nullptr;
+  return std::make_unique<FieldWriter>(ctx.directory / "fields");
+}
+
+int run_terzaghi(core::RunContext& ctx) {
+  const core::Case& c = ctx.run_case;
+  TerzaghiSpec t;
+  t.height = c.number("geometry.height");
+  t.width = c.number("geometry.width");
+  t.cell = c.number("geometry.cell");
+  t.points_per_cell = static_cast<int>(c.integer("geometry.points_per_cell"));
+  t.empty_rows = static_cast<int>(c.integer("geometry.empty_rows"));
+  t.young_modulus = c.number("solid.young_modulus");
+  t.poisson_ratio = c.number("solid.poisson_ratio");
+  t.porosity = c.number("solid.porosity");
+  t.grain_density = c.number("solid.density");
+  t.liquid_density = c.number("liquid.density");
+  t.bulk_modulus = c.number("liquid.bulk_modulus");
+  t.hydraulic_conductivity = c.number("liquid.hydraulic_conductivity");
+  t.gravity_for_darcy = c.number("liquid.darcy_gravity");
+  t.load = c.number("loading.load");
+  t.undrained_start = c.boolean("loading.undrained_start");
+  t.options = read_options(c);
+  auto s = make_terzaghi(t);
+  maybe_restart(ctx, *s);
+  report_setup(ctx, *s);
+  const TerzaghiConstants k = terzaghi_constants(t);
+  ctx.log->info("Terzaghi: p0 = {:.6g} Pa, c_v = {:.6g} m²/s, final settlement {:.6g} m", k.p0,
+                k.cv, k.final_settlement);
+  const double ms0 = s->total_mass(Phase::solid), ml0 = s->total_mass(Phase::liquid);
+  auto isochrones = c.number_list("run.isochrones");
+  std::sort(isochrones.begin(), isochrones.end());
+  auto fields = field_writer(ctx);
+  const int frames = static_cast<int>(c.integer("output.frames"));
+  std::vector<double> time, settlement, settlement_exact, p_base, p_base_exact;
+  const long sample_every = 20;
+  auto sample = [&]() {
+    if (s->steps() % sample_every != 0) return;
+    double u, ue;
+    terzaghi_settlement(*s, t, u, ue);
+    time.push_back(s->time());
+    settlement.push_back(u);
+    settlement_exact.push_back(ue);
+  };
+  double wall = 0, max_p_err = 0, max_s_err = 0;
+  for (std::size_t i = 0; i < isochrones.size(); ++i) {
+    const double Tv = isochrones[i];
+    const double end = Tv * t.height * t.height / k.cv;
+    // One frame set over the whole run: frames are spaced on the last isochrone's time.
+    wall +=
+        advance(ctx, *s, end, i + 1 == isochrones.size() ? fields.get() : nullptr, frames, sample);
+    const double ep = terzaghi_pressure_error(*s, t);
+    double u, ue;
+    terzaghi_settlement(*s, t, u, ue);
+    const double es = std::fabs(u - ue) / k.final_settlement;
+    max_p_err = std::max(max_p_err, ep);
+    max_s_err = std::max(max_s_err, es);
+    ctx.log->info(
+        "T_v = {:g} (t = {:.5g} s): pressure RMS error / p0 = {:.4g}; settlement {:.6g} "
+        "m (exact {:.6g}), error / final = {:.4g}",
+        Tv, s->time(), ep, u, ue, es);
+    // Isochrone: depth, p at the liquid points, exact p.
+    std::vector<double> depth, p, pe;
+    for (std::size_t q = 0; q < s->liquid().size(); ++q) {
+      const double d = t.height - s->liquid().y[q];
+      depth.push_back(d);
+      p.push_back(s->liquid().pressure[q]);
+      pe.push_back(analytic::terzaghi_pressure(d, s->time(), t.height, k.cv, k.p0));
+    }
+    const std::string g = fmt::format("/isochrones/{}", i);
+    ctx.result.write(g + "/depth", depth, "m", "depth below the top of the liquid points");
+    ctx.result.write(g + "/pressure", p, "Pa", "pore pressure at the liquid points");
+    ctx.result.write(g + "/pressure_exact", pe, "Pa", "Terzaghi series at the same depths");
+    ctx.result.attribute(g, "time_factor", Tv);
+    ctx.result.attribute(g, "time", s->time());
+    ctx.result.attribute(g, "pressure_rms_error_over_p0", ep);
+  }
+  ctx.result.write("/series/time", time, "s", "time");
+  ctx.result.write("/series/settlement", settlement, "m", "mean settlement of the top points");
+  ctx.result.write("/series/settlement_exact", settlement_exact, "m",
+                   "analytic settlement at the same points");
+  ctx.result.attribute("/series", "p0", k.p0);
+  ctx.result.attribute("/series", "cv", k.cv);
+  ctx.result.attribute("/series", "height", t.height);
+  ctx.result.attribute("/series", "final_settlement", k.final_settlement);
+  ctx.result.flush();
+  common_summary(ctx, *s, wall, ms0, ml0);
+  ctx.summary.set("terzaghi.l2_err_pressure", max_p_err);
+  ctx.summary.set("terzaghi.settlement_err", max_s_err);
+  ctx.summary.set("terzaghi.p0", k.p0);
+  ctx.summary.set("terzaghi.cv", k.cv);
+  ctx.summary.set("terzaghi.cell", t.cell);
+  finish_output(ctx, *s);
+  ctx.plot("plot_mpm.py");
+  return core::exit_ok;
+}
+
+int run_couette(core::RunContext& ctx) {
+  const core::Case& c = ctx.run_case;
+  CouetteSpec cs;
+  cs.inner_radius = c.number("geometry.inner_radius");
+  cs.outer_radius = c.number("geometry.outer_radius");
+  cs.cells_r = static_cast<int>(c.integer("geometry.cells_r"));
+  cs.cells_theta = static_cast<int>(c.integer("geometry.cells_theta"));
+  cs.points_per_cell = static_cast<int>(c.integer("geometry.points_per_cell"));
+  cs.density = c.number("liquid.density");
+  cs.viscosity = c.number("liquid.viscosity");
+  cs.bulk_modulus = c.number("liquid.bulk_modulus");
+  cs.wall_velocity = c.number("loading.wall_velocity");
+  cs.options = read_options(c);
+  auto s = make_couette(cs);
+  maybe_restart(ctx, *s);
+  report_setup(ctx, *s);
+  const double ml0 = s->total_mass(Phase::liquid);
+  const double end = c.number("run.end_time"), from = c.number("run.average_from");
+  std::vector<double> vx(s->grid_nodes(), 0.0), vy(s->grid_nodes(), 0.0);
+  int samples = 0;
+  auto fields = field_writer(ctx);
+  const double wall =
+      advance(ctx, *s, end, fields.get(), static_cast<int>(c.integer("output.frames")), [&]() {
+        if (s->time() < from) return;
+        for (int a = 0; a < s->grid_nodes(); ++a) {
+          vx[a] += s->nodes().vx_liquid[a];
+          vy[a] += s->nodes().vy_liquid[a];
+        }
+        ++samples;
+      });
+  for (int a = 0; a < s->grid_nodes(); ++a) {
+    vx[a] /= std::max(samples, 1);
+    vy[a] /= std::max(samples, 1);
+  }
+  double et, er;
+  couette_error(*s, cs, vx, vy, et, er);
+  ctx.log->info(
+      "Couette: RMS v_θ error / V = {:.4g}, RMS v_r / V = {:.4g} (grid velocity "
+      "averaged over t in [{:g}, {:g}] s)",
+      et, er, from, end);
+  // Radial profile along θ = 0 ... all nodes of ring i averaged.
+  const auto& g = std::get<PolarGrid>(s->grid());
+  std::vector<double> r, vt, vt_exact;
+  for (int i = 0; i <= g.cells_r(); ++i) {
+    double sum = 0;
+    for (int j = 0; j < g.cells_theta(); ++j) {
+      const int a = g.node(i, j);
+      const double th = g.node_angle(a);
+      sum += -vx[a] * std::sin(th) + vy[a] * std::cos(th);
+    }
+    r.push_back(g.node_radius(i));
+    vt.push_back(sum / g.cells_theta());
+    vt_exact.push_back(analytic::couette_velocity(g.node_radius(i), cs.inner_radius,
+                                                  cs.outer_radius, cs.wall_velocity));
+  }
+  ctx.result.write("/profile/radius", r, "m", "node ring radius");
+  ctx.result.write("/profile/velocity", vt, "m/s", "ring-averaged, time-averaged grid v_θ");
+  ctx.result.write("/profile/velocity_exact", vt_exact, "m/s", "A r + B / r");
+  ctx.result.flush();
+  common_summary(ctx, *s, wall, 0.0, ml0);
+  ctx.summary.set("couette.l2_err_velocity", et);
+  ctx.summary.set("couette.rms_radial_velocity", er);
+  finish_output(ctx, *s);
+  ctx.plot("plot_mpm.py");
+  return core::exit_ok;
+}
+
+int run_column(core::RunContext& ctx) {
+  const core::Case& c = ctx.run_case;
+  ColumnSpec cs;
+  cs.width = c.number("geometry.width");
+  cs.height = c.number("geometry.height");
+  cs.cell = c.number("geometry.cell");
+  cs.points_per_cell = static_cast<int>(c.integer("geometry.points_per_cell"));
+  cs.empty_rows = static_cast<int>(c.integer("geometry.empty_rows"));
+  cs.young_modulus = c.number("solid.young_modulus");
+  cs.poisson_ratio = c.number("solid.poisson_ratio");
+  cs.density = c.number("solid.density");
+  cs.gravity = c.number("loading.gravity");
+  cs.options = read_options(c);
+  auto s = make_elastic_column(cs);
+  maybe_restart(ctx, *s);
+  report_setup(ctx, *s);
+  const double ms0 = s->total_mass(Phase::solid);
+  std::vector<double> time, base;
+  auto fields = field_writer(ctx);
+  const double wall = advance(ctx, *s, c.number("run.end_time"), fields.get(),
+                              static_cast<int>(c.integer("output.frames")), [&]() {
+                                if (s->steps() % 10 != 0) return;
+                                time.push_back(s->time());
+                                base.push_back(column_error(*s, cs).base_stress);
+                              });
+  const ColumnError e = column_error(*s, cs);
+  ctx.log->info(
+      "column: RMS σ_yy error / (ρ g H) = {:.4g}, σ_xx {:.4g}; base σ_yy = {:.6g} Pa "
+      "(ρ g H = {:.6g} Pa)",
+      e.vertical_stress, e.horizontal_stress, e.base_stress, cs.density * cs.gravity * cs.height);
+  std::vector<double> y0, syy, syy_exact;
+  for (std::size_t p = 0; p < s->solid().size(); ++p) {
+    y0.push_back(s->solid().y0[p]);
+    syy.push_back(s->solid().syy[p]);
+    syy_exact.push_back(
+        analytic::column_vertical_stress(s->solid().y0[p], cs.height, cs.density, cs.gravity));
+  }
+  ctx.result.write("/series/time", time, "s", "time");
+  ctx.result.write("/series/base_stress", base, "Pa", "mean σ_yy of the bottom row of points");
+  ctx.result.write("/profile/y0", y0, "m", "initial height of the points");
+  ctx.result.write("/profile/syy", syy, "Pa", "σ_yy at the points (tension-positive)");
+  ctx.result.write("/profile/syy_exact", syy_exact, "Pa", "-ρ g (H - y0)");
+  ctx.result.flush();
+  common_summary(ctx, *s, wall, ms0, 0.0);
+  ctx.summary.set("column.l2_err_stress", e.vertical_stress);
+  ctx.summary.set("column.l2_err_horizontal_stress", e.horizontal_stress);
+  ctx.summary.set("column.base_stress", e.base_stress);
+  finish_output(ctx, *s);
+  ctx.plot("plot_mpm.py");
+  return core::exit_ok;
+}
+
+}  // namespace
+
+void register_mpm_kinds(core::KindRegistry& registry) {
+  registry.add({"mpm", "terzaghi", "Terzaghi consolidation, two-phase double-point MPM",
+                terzaghi_schema(), check_terzaghi, run_terzaghi, "cases/mpm/terzaghi.yaml"});
+  registry.add({"mpm", "couette", "Couette flow of the liquid in an annulus (polar grid)",
+                couette_schema(), check_couette, run_couette, "cases/mpm/couette.yaml"});
+  registry.add({"mpm", "elastic_column", "elastic column under gravity, at rest", column_schema(),
+                check_column, run_column, "cases/mpm/elastic_column.yaml"});
+}
+
+}  // namespace granflow::mpm

@@ -1,0 +1,11 @@
+// The `mpm` case kind: the double-point MPM verification problems run from case files
+// (cases/mpm/*.yaml), tests `terzaghi`, `couette` and `elastic_column`.
+#pragma once
+
+#include "core/kind_registry.hpp"
+
+namespace granflow::mpm {
+
+void register_mpm_kinds(core::KindRegistry& registry);
+
+}  // namespace granflow::mpm
