@@ -2,11 +2,13 @@
 
 #include <array>
 
+#include "dem_coupling/fixes/fix_fluid_le.hpp"
+
 namespace granflow::dem {
 
 namespace {
 // Add {"style/name", &create_style} entries here (see fix_styles.hpp).
-constexpr std::array<FixStyle, 0> fix_style_table{};
+constexpr std::array<FixStyle, 1> fix_style_table{{{"fluid/le", &create_fix_fluid_le}}};
 }  // namespace
 
 std::span<const FixStyle> custom_fix_styles() { return fix_style_table; }

@@ -1,0 +1,434 @@
+// fix fluid/le (see fix_fluid_le.hpp for the syntax and the global vector; docs/dem_fluid.md for
+// the equations and their sources).
+#include "dem_coupling/fixes/fix_fluid_le.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "atom.h"
+#include "comm.h"
+#include "continuum/model/closures.hpp"
+#include "dem_coupling/fixes/fluid_time_step.hpp"
+#include "dem_coupling/fixes/lubrication.hpp"
+#include "domain.h"
+#include "error.h"
+#include "fix.h"
+#include "force.h"
+#include "lammps.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "pair.h"
+#include "update.h"
+
+namespace granflow::dem {
+
+namespace {
+
+namespace vec = fluid_le_vector;
+constexpr double pi = std::numbers::pi;
+
+class FixFluidLE : public LAMMPS_NS::Fix {
+ public:
+  FixFluidLE(LAMMPS_NS::LAMMPS* lmp, int narg, char** arg);
+  int setmask() override { return LAMMPS_NS::FixConst::POST_FORCE; }
+  void init() override;
+  void setup(int vflag) override;
+  void post_force(int vflag) override;
+  double compute_vector(int n) override;
+
+ private:
+  // Streaming (fluid) velocity gradient L = H_rate H⁻¹ of the deforming box and the vorticity/2.
+  struct Flow {
+    double L[3][3];
+    double rate_lo[3];
+    double spin[3];  // Ω = (1/2) curl u
+  };
+  Flow current_flow() const;
+  void fail(const std::string& message) const { error->all(FLERR, message.c_str()); }
+  bool parse_yes_no(const char* keyword, const char* value) const;
+
+  FluidForceSettings settings_;
+  double solid_volume_ = 0.0;  // Σ π d³/6 of the group, m³ (set in setup)
+  double smallest_radius_ = 0.0, largest_radius_ = 0.0, smallest_density_ = 0.0;
+  std::array<double, vec::size> local_{};   // this rank's sums (kinetic part filled on demand)
+  std::array<double, vec::size> global_{};  // reduced over ranks
+  LAMMPS_NS::bigint last_reduce_ = -1;
+};
+
+bool FixFluidLE::parse_yes_no(const char* keyword, const char* value) const {
+  if (std::strcmp(value, "yes") == 0) return true;
+  if (std::strcmp(value, "no") == 0) return false;
+  fail(std::string("fix fluid/le: keyword ") + keyword + " expects yes or no, got " + value);
+  return false;
+}
+
+double parse_number(LAMMPS_NS::Error* error, const char* keyword, const char* text) {
+  char* end = nullptr;
+  const double value = std::strtod(text, &end);
+  if (end == text || *end != '\0' || !std::isfinite(value)) {
+    const std::string message =
+        std::string("fix fluid/le: keyword ") + keyword + " expects a number, got " + text;
+    error->all(FLERR, message.c_str());
+  }
+  return value;
+}
+
+FixFluidLE::FixFluidLE(LAMMPS_NS::LAMMPS* lmp, int narg, char** arg) : Fix(lmp, narg, arg) {
+  settings_.lubrication = false;
+  bool have_viscosity = false, have_permeability = false;
+  for (int i = 3; i < narg;) {
+    const std::string key = arg[i];
+    auto need = [&](int n) {
+      if (i + n >= narg)
+        fail("fix fluid/le: keyword " + key + " needs " + std::to_string(n) + " value(s)");
+    };
+    if (key == "viscosity") {
+      need(1);
+      settings_.liquid.viscosity = parse_number(error, "viscosity", arg[i + 1]);
+      if (!(settings_.liquid.viscosity > 0.0)) fail("fix fluid/le: viscosity must be > 0 (Pa s)");
+      have_viscosity = true;
+      i += 2;
+    } else if (key == "permeability") {
+      need(1);
+      try {
+        settings_.liquid.permeability = model::parse_permeability(arg[i + 1]);
+      } catch (const std::invalid_argument& e) {
+        fail(std::string("fix fluid/le: permeability: ") + e.what());
+      }
+      have_permeability = true;
+      i += 2;
+    } else if (key == "sphericity") {
+      need(1);
+      settings_.liquid.sphericity = parse_number(error, "sphericity", arg[i + 1]);
+      if (!(settings_.liquid.sphericity > 0.0 && settings_.liquid.sphericity <= 1.0))
+        fail("fix fluid/le: sphericity must be in (0, 1]");
+      i += 2;
+    } else if (key == "drag") {
+      need(1);
+      settings_.drag = parse_yes_no("drag", arg[i + 1]);
+      i += 2;
+    } else if (key == "rotation") {
+      need(1);
+      settings_.rotational_drag = parse_yes_no("rotation", arg[i + 1]);
+      i += 2;
+    } else if (key == "tangential") {
+      need(1);
+      settings_.tangential_lubrication = parse_yes_no("tangential", arg[i + 1]);
+      i += 2;
+    } else if (key == "lubrication") {
+      need(2);
+      settings_.maximum_gap = parse_number(error, "lubrication HMAX", arg[i + 1]);
+      settings_.minimum_gap = parse_number(error, "lubrication HMIN", arg[i + 2]);
+      if (!(settings_.minimum_gap > 0.0 && settings_.maximum_gap > settings_.minimum_gap))
+        fail("fix fluid/le: lubrication HMAX HMIN needs 0 < HMIN < HMAX (m)");
+      settings_.lubrication = true;
+      i += 3;
+    } else {
+      fail("fix fluid/le: unknown keyword " + key +
+           " (expected viscosity, permeability, sphericity, drag, rotation, lubrication, "
+           "tangential)");
+    }
+  }
+  if (!have_viscosity || !have_permeability)
+    fail(
+        "fix fluid/le: needs 'viscosity ETA' and 'permeability NAME' (seed_eq26, kozeny_carman, "
+        "ergun)");
+  vector_flag = 1;
+  size_vector = vec::size;
+  global_freq = 1;
+  extvector = 0;    // stresses, rates and counts: never normalised by the number of atoms
+  virial_flag = 1;  // compute pressure adds virial[] (lubrication + drag)
+  for (double& w : virial) w = 0.0;
+}
+
+void FixFluidLE::init() {
+  if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
+    fail("fix fluid/le needs atom_style granular (radius, rmass, omega, torque)");
+  if (settings_.lubrication) {
+    if (force->newton_pair) fail("fix fluid/le lubrication needs 'newton off'");
+    if (!comm->ghost_velocity)
+      fail("fix fluid/le lubrication needs 'communicate single vel yes' (ghost velocities)");
+    if (force->pair == nullptr) fail("fix fluid/le lubrication needs a granular pair style");
+  }
+  // Size range and lightest material of the group (time-step limits, list reach).
+  double lo[2] = {std::numeric_limits<double>::infinity(),
+                  std::numeric_limits<double>::infinity()};  // r_min, ρ_min
+  double r_max = 0.0;
+  for (int i = 0; i < atom->nlocal; ++i) {
+    if (!(atom->mask[i] & groupbit)) continue;
+    const double r = atom->radius[i];
+    lo[0] = std::min(lo[0], r);
+    lo[1] = std::min(lo[1], atom->rmass[i] / (4.0 / 3.0 * pi * r * r * r));
+    r_max = std::max(r_max, r);
+  }
+  double lo_all[2];
+  MPI_Allreduce(lo, lo_all, 2, MPI_DOUBLE, MPI_MIN, world);
+  MPI_Allreduce(&r_max, &largest_radius_, 1, MPI_DOUBLE, MPI_MAX, world);
+  smallest_radius_ = lo_all[0];
+  smallest_density_ = lo_all[1];
+  if (!(smallest_radius_ > 0.0 && std::isfinite(smallest_radius_)))
+    fail("fix fluid/le: the group has no particles of positive radius");
+  if (settings_.lubrication) {
+    if (!(settings_.maximum_gap < smallest_radius_))
+      fail(
+          "fix fluid/le: lubrication HMAX must be below the smallest radius (the near-field "
+          "asymptotics and the log(1/h) term need h << r)");
+    // The granular list keeps pairs with r < (r_i + r_j) cdf + skin; every pair with
+    // h < (r_i + r_j)(cdf - 1) stays listed between rebuilds, so cdf = 1 + HMAX / (2 r_min).
+    neighbor->register_contact_dist_factor(1.0 + settings_.maximum_gap / (2.0 * smallest_radius_));
+  }
+}
+
+FixFluidLE::Flow FixFluidLE::current_flow() const {
+  Flow flow{};
+  // H (upper triangular, Voigt order 0 xx, 1 yy, 2 zz, 3 yz, 4 xz, 5 xy) maps lamda to x - boxlo.
+  const double* hr = domain->h_rate;
+  const double* hi = domain->h_inv;
+  const double rate[3][3] = {{hr[0], hr[5], hr[4]}, {0.0, hr[1], hr[3]}, {0.0, 0.0, hr[2]}};
+  const double inv[3][3] = {{hi[0], hi[5], hi[4]}, {0.0, hi[1], hi[3]}, {0.0, 0.0, hi[2]}};
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      double s = 0.0;
+      for (int k = 0; k < 3; ++k) s += rate[a][k] * inv[k][b];
+      flow.L[a][b] = s;
+    }
+  for (int a = 0; a < 3; ++a) flow.rate_lo[a] = domain->h_ratelo[a];
+  flow.spin[0] = 0.5 * (flow.L[2][1] - flow.L[1][2]);
+  flow.spin[1] = 0.5 * (flow.L[0][2] - flow.L[2][0]);
+  flow.spin[2] = 0.5 * (flow.L[1][0] - flow.L[0][1]);
+  return flow;
+}
+
+void FixFluidLE::setup(int vflag) {
+  double local_volume = 0.0;
+  for (int i = 0; i < atom->nlocal; ++i)
+    if (atom->mask[i] & groupbit) {
+      const double r = atom->radius[i];
+      local_volume += 4.0 / 3.0 * pi * r * r * r;
+    }
+  MPI_Allreduce(&local_volume, &solid_volume_, 1, MPI_DOUBLE, MPI_SUM, world);
+  const double box_volume = domain->xprd * domain->yprd * domain->zprd;
+  if (settings_.lubrication) {
+    if (force->pair->list == nullptr) fail("fix fluid/le: the pair style has no neighbour list");
+    const Flow flow = current_flow();
+    const bool sheared = flow.L[0][1] != 0.0 || flow.L[0][2] != 0.0 || flow.L[1][2] != 0.0;
+    if (sheared && !domain->deform_vremap)
+      fail(
+          "fix fluid/le: a sheared box needs fix deform ... remap v (Lees-Edwards ghost "
+          "velocities)");
+  }
+  FluidTimeStepInput in;
+  in.fluid = settings_;
+  in.particle_density = smallest_density_;
+  in.smallest_radius = smallest_radius_;
+  in.largest_radius = largest_radius_;
+  in.solid_fraction = solid_volume_ / box_volume;
+  if (!(in.solid_fraction < 1.0)) fail("fix fluid/le: solid fraction >= 1");
+  const std::string refusal = check_fluid_time_step(update->dt, fluid_time_scales(in));
+  if (!refusal.empty()) fail("fix fluid/le: " + refusal);
+  post_force(vflag);
+}
+
+void FixFluidLE::post_force(int /*vflag*/) {
+  double** x = atom->x;
+  double** v = atom->v;
+  double** f = atom->f;
+  double** omega = atom->omega;
+  double** torque = atom->torque;
+  const double* radius = atom->radius;
+  const int* mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  const double eta = settings_.liquid.viscosity;
+  const Flow flow = current_flow();
+  const double* lo = domain->boxlo;
+  const double box_volume = domain->xprd * domain->yprd * domain->zprd;
+  const double nu = solid_volume_ / box_volume;
+
+  std::array<double, vec::size> acc{};
+  double w_drag[6] = {0, 0, 0, 0, 0, 0};
+
+  // (a) drag relative to the streaming velocity, and rotational drag relative to Ω.
+  if (settings_.drag || settings_.rotational_drag) {
+    // c_p ∝ d for every correlation (κ ∝ d²), but it is evaluated per particle through the
+    // continuum's function so that the DEM and the continuum share one implementation.
+    for (int i = 0; i < nlocal; ++i) {
+      if (!(mask[i] & groupbit)) continue;
+      const double d = 2.0 * radius[i];
+      const double dx[3] = {x[i][0] - lo[0], x[i][1] - lo[1], x[i][2] - lo[2]};
+      if (settings_.drag) {
+        const double c = model::particle_drag_coefficient(settings_.liquid, d, nu);
+        double F[3];
+        double dissipation = 0.0;
+        for (int a = 0; a < 3; ++a) {
+          const double u =
+              flow.L[a][0] * dx[0] + flow.L[a][1] * dx[1] + flow.L[a][2] * dx[2] + flow.rate_lo[a];
+          const double w = v[i][a] - u;
+          F[a] = -c * w;
+          f[i][a] += F[a];
+          dissipation += c * w * w;
+        }
+        acc[vec::drag_dissipation] += dissipation;
+        w_drag[0] += dx[0] * F[0];
+        w_drag[1] += dx[1] * F[1];
+        w_drag[2] += dx[2] * F[2];
+        w_drag[3] += dx[0] * F[1];
+        w_drag[4] += dx[0] * F[2];
+        w_drag[5] += dx[1] * F[2];
+      }
+      if (settings_.rotational_drag) {
+        const double cr = pi * eta * d * d * d;
+        double dissipation = 0.0;
+        for (int a = 0; a < 3; ++a) {
+          const double w = omega[i][a] - flow.spin[a];
+          torque[i][a] -= cr * w;
+          dissipation += cr * w * w;
+        }
+        acc[vec::rotational_dissipation] += dissipation;
+      }
+    }
+  }
+
+  // (b) pairwise lubrication on the granular half list (newton off: a pair with an owned j is
+  // listed once and updates both; a pair with a ghost j is listed by both owners, so each applies
+  // its own half and counts the pair's virial and dissipation with weight 1/2).
+  if (settings_.lubrication) {
+    const LAMMPS_NS::NeighList* list = force->pair->list;
+    const int inum = list->inum;
+    const int* ilist = list->ilist;
+    const int* numneigh = list->numneigh;
+    int** firstneigh = list->firstneigh;
+    const double h_max = settings_.maximum_gap, h_min = settings_.minimum_gap;
+    const bool tangential = settings_.tangential_lubrication;
+    double* wn = &acc[vec::lubrication_normal];
+    double* wt = &acc[vec::lubrication_tangential];
+    for (int ii = 0; ii < inum; ++ii) {
+      const int i = ilist[ii];
+      if (!(mask[i] & groupbit)) continue;
+      const double ri = radius[i];
+      const int* jlist = firstneigh[i];
+      for (int jj = 0; jj < numneigh[i]; ++jj) {
+        const int j = jlist[jj] & NEIGHMASK;
+        if (!(mask[j] & groupbit)) continue;
+        const double rj = radius[j];
+        const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+        const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
+        const double reach = ri + rj + h_max;
+        if (rsq >= reach * reach) continue;
+        const double r = std::sqrt(rsq);
+        const double h = r - ri - rj;
+        const double n[3] = {del[0] / r, del[1] / r, del[2] / r};  // from j to i
+        // Ghost velocities carry the Lees-Edwards shift (fix deform remap v).
+        const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
+        const double vn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2];
+        const double cn = normal_lubrication_resistance(eta, ri, rj, h, h_min);
+        double Fn[3] = {-cn * vn * n[0], -cn * vn * n[1], -cn * vn * n[2]};
+        double Ft[3] = {0.0, 0.0, 0.0};
+        double dissipation = cn * vn * vn;
+        if (tangential) {
+          // relative surface velocity at the gap: v_ij - (r_i ω_i + r_j ω_j) × n
+          const double s[3] = {ri * omega[i][0] + rj * omega[j][0],
+                               ri * omega[i][1] + rj * omega[j][1],
+                               ri * omega[i][2] + rj * omega[j][2]};
+          const double vs[3] = {dv[0] - (s[1] * n[2] - s[2] * n[1]),
+                                dv[1] - (s[2] * n[0] - s[0] * n[2]),
+                                dv[2] - (s[0] * n[1] - s[1] * n[0])};
+          const double vsn = vs[0] * n[0] + vs[1] * n[1] + vs[2] * n[2];
+          const double vt[3] = {vs[0] - vsn * n[0], vs[1] - vsn * n[1], vs[2] - vsn * n[2]};
+          const double ct = tangential_lubrication_resistance(eta, ri, rj, h, h_min);
+          for (int a = 0; a < 3; ++a) Ft[a] = -ct * vt[a];
+          dissipation += ct * (vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
+          // torque of F_t at the surface point -r_i n of i (and +r_j n with -F_t on j)
+          const double nxF[3] = {n[1] * Ft[2] - n[2] * Ft[1], n[2] * Ft[0] - n[0] * Ft[2],
+                                 n[0] * Ft[1] - n[1] * Ft[0]};
+          for (int a = 0; a < 3; ++a) torque[i][a] -= ri * nxF[a];
+          if (j < nlocal)
+            for (int a = 0; a < 3; ++a) torque[j][a] -= rj * nxF[a];
+        }
+        for (int a = 0; a < 3; ++a) f[i][a] += Fn[a] + Ft[a];
+        if (j < nlocal)
+          for (int a = 0; a < 3; ++a) f[j][a] -= Fn[a] + Ft[a];
+        const double weight = j < nlocal ? 1.0 : 0.5;
+        wn[0] += weight * del[0] * Fn[0];
+        wn[1] += weight * del[1] * Fn[1];
+        wn[2] += weight * del[2] * Fn[2];
+        wn[3] += weight * del[0] * Fn[1];
+        wn[4] += weight * del[0] * Fn[2];
+        wn[5] += weight * del[1] * Fn[2];
+        wt[0] += weight * del[0] * Ft[0];
+        wt[1] += weight * del[1] * Ft[1];
+        wt[2] += weight * del[2] * Ft[2];
+        wt[3] += weight * del[0] * Ft[1];
+        wt[4] += weight * del[0] * Ft[2];
+        wt[5] += weight * del[1] * Ft[2];
+        acc[vec::lubricated_pairs] += weight;
+        acc[vec::lubrication_dissipation] += weight * dissipation;
+      }
+    }
+  }
+
+  for (int k = 0; k < 6; ++k) {
+    acc[vec::drag + k] = w_drag[k];
+    virial[k] = acc[vec::lubrication_normal + k] + acc[vec::lubrication_tangential + k] + w_drag[k];
+  }
+  // Store virials as stresses (divide once here, the sums stay in acc).
+  for (int k = 0; k < 18; ++k) acc[k] /= box_volume;
+  acc[vec::solid_fraction] = nu;
+  acc[vec::shear_rate] = flow.L[0][1];
+  local_ = acc;
+  last_reduce_ = -1;  // new forces: reduce again on the next request
+}
+
+double FixFluidLE::compute_vector(int n) {
+  if (last_reduce_ != update->ntimestep) {
+    // kinetic stress about the streaming velocity, from the current velocities
+    const Flow flow = current_flow();
+    const double* lo = domain->boxlo;
+    double k[6] = {0, 0, 0, 0, 0, 0};
+    for (int i = 0; i < atom->nlocal; ++i) {
+      if (!(atom->mask[i] & groupbit)) continue;
+      const double* xi = atom->x[i];
+      const double dx[3] = {xi[0] - lo[0], xi[1] - lo[1], xi[2] - lo[2]};
+      double w[3];
+      for (int a = 0; a < 3; ++a)
+        w[a] = atom->v[i][a] - (flow.L[a][0] * dx[0] + flow.L[a][1] * dx[1] + flow.L[a][2] * dx[2] +
+                                flow.rate_lo[a]);
+      const double m = atom->rmass[i];
+      k[0] += m * w[0] * w[0];
+      k[1] += m * w[1] * w[1];
+      k[2] += m * w[2] * w[2];
+      k[3] += m * w[0] * w[1];
+      k[4] += m * w[0] * w[2];
+      k[5] += m * w[1] * w[2];
+    }
+    const double box_volume = domain->xprd * domain->yprd * domain->zprd;
+    std::array<double, vec::size> send = local_;
+    for (int c = 0; c < 6; ++c) send[vec::kinetic + c] = k[c] / box_volume;
+    MPI_Allreduce(send.data(), global_.data(), vec::size, MPI_DOUBLE, MPI_SUM, world);
+    // per-box quantities, identical on every rank: not summed
+    global_[vec::solid_fraction] = local_[vec::solid_fraction];
+    global_[vec::shear_rate] = local_[vec::shear_rate];
+    global_[vec::drag_correction] =
+        model::particle_drag_coefficient(settings_.liquid, 1.0, local_[vec::solid_fraction]) /
+        (3.0 * pi * settings_.liquid.viscosity);
+    last_reduce_ = update->ntimestep;
+  }
+  if (n < 0 || n >= vec::size) return 0.0;
+  return global_[n];
+}
+
+}  // namespace
+
+LAMMPS_NS::Fix* create_fix_fluid_le(LAMMPS_NS::LAMMPS* lmp, int narg, char** arg) {
+  return new FixFluidLE(lmp, narg, arg);
+}
+
+}  // namespace granflow::dem

@@ -1,0 +1,55 @@
+// Pairwise lubrication resistances of two nearly touching spheres in a Newtonian liquid of
+// viscosity η, radii r_i, r_j, surface gap h (leading terms of the near-field asymptotics).
+//
+// Normal (squeeze) mode, Reynolds lubrication between spheres (Kim & Karrila 1991, §9.3; Ball &
+// Melrose 1997, Adv. Colloid Interface Sci. 59, 19; Jeffrey & Onishi 1984, J. Fluid Mech. 139,
+// 261, X^A_11 = β²/(1+β)² ξ⁻¹ + ...):
+//   F_n = -c_n v_n,   c_n = 6π η a² / h,   a = r_i r_j / (r_i + r_j)  (reduced radius).
+// Tangential (shear) mode, the log(1/ξ) term of Y^A_11 (Jeffrey & Onishi 1984; Kim & Karrila
+// 1991, §11.3; written for unequal spheres as in LAMMPS COLLOID pair lubricate/poly,
+// a_sh = 6π η r_i 4β(2+β+2β²)/(15(1+β)³) ln(1/ξ), β = r_j / r_i):
+//   F_t = -c_t v_t,   c_t = 6π η a (4/15) (2 + β + 2β²)/(1 + β)² ln(1/ξ),  ξ = 2h/(r_i + r_j).
+// In terms of the reduced radius the prefactor 6π η r_i 4β(2+β+2β²)/(15(1+β)³) is exactly
+// 6π η a (4/15)(2+β+2β²)/(1+β)² and is symmetric in i, j; the gap is scaled with the mean radius
+// (Jeffrey & Onishi's ξ = s - 2, s = 2r/(r_i + r_j)), so the force is symmetric too (LAMMPS
+// scales by r_i, which differs only in the O(1) term that the asymptotics leave out). For equal
+// spheres of radius R this is Ball & Melrose's c_t = 6π η R (1/6) ln(R/h).
+// Both use max(h, h_min): below h_min (and for overlapping spheres, where contact forces act)
+// the resistance is held at its h_min value, the usual regularisation (surface roughness).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace granflow::dem {
+
+// a = r_i r_j / (r_i + r_j), m.
+inline double reduced_radius(double radius_i, double radius_j) {
+  return radius_i * radius_j / (radius_i + radius_j);
+}
+
+// c_n = 6π η a² / max(h, h_min), N s/m.
+inline double normal_lubrication_resistance(double viscosity, double radius_i, double radius_j,
+                                            double gap, double minimum_gap) {
+  const double a = reduced_radius(radius_i, radius_j);
+  return 6.0 * std::numbers::pi * viscosity * a * a / std::max(gap, minimum_gap);
+}
+
+// (2 + β + 2β²)/(1 + β)², β = r_j / r_i: 5/4 for equal spheres, -> 2 for very unequal ones.
+inline double tangential_lubrication_size_factor(double radius_i, double radius_j) {
+  const double beta = radius_j / radius_i;
+  return (2.0 + beta + 2.0 * beta * beta) / ((1.0 + beta) * (1.0 + beta));
+}
+
+// c_t = 6π η a (4/15) (2+β+2β²)/(1+β)² ln((r_i + r_j) / (2 max(h, h_min))), N s/m.
+// Needs max(h, h_min) < (r_i + r_j)/2 (the log is positive); the fix enforces h_max < r_min.
+inline double tangential_lubrication_resistance(double viscosity, double radius_i, double radius_j,
+                                                double gap, double minimum_gap) {
+  const double a = reduced_radius(radius_i, radius_j);
+  const double xi = 2.0 * std::max(gap, minimum_gap) / (radius_i + radius_j);
+  return 6.0 * std::numbers::pi * viscosity * a * (4.0 / 15.0) *
+         tangential_lubrication_size_factor(radius_i, radius_j) * std::log(1.0 / xi);
+}
+
+}  // namespace granflow::dem
