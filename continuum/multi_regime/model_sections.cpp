@@ -60,6 +60,120 @@ core::Field liquid_section() {
   return l;
 }
 
+namespace {
+std::string yaml_number(double value) { return fmt::format("{}", value); }
+}  // namespace
+
+core::Field force_chains_section() {
+  using model::force_chains::ForceChainParameters;
+  const ForceChainParameters d{};
+  core::Field f("force_chains", core::ValueType::section, "",
+                "force-chain term σ_FC = σ' (strain-hardening elasto-plasticity, model.md §2; "
+                "equations and sources in docs/model/force_chains.md). Compression positive.");
+  f.boolean("enabled", "switch the force-chain term on/off").default_value("false");
+  auto num = [&](const char* key, const char* unit, const char* doc, double value) -> core::Field& {
+    return f.number(key, unit, doc).default_value(yaml_number(value));
+  };
+  num("bulk_modulus_ref", "Pa", "K_ref of K = K_ref (max(p', p_floor)/p_ref)^n", d.bulk_modulus_ref)
+      .greater_than(0);
+  num("reference_pressure", "Pa", "p_ref of the elastic law", d.reference_pressure).greater_than(0);
+  num("elastic_exponent", "", "n of the elastic law", d.elastic_exponent).at_least(0).less_than(1);
+  num("poisson_ratio", "", "Poisson ratio of the skeleton (constant)", d.poisson_ratio)
+      .greater_than(-1).less_than(0.5);
+  num("pressure_floor", "Pa", "p_floor: K stays K(p_floor) > 0 below it", d.pressure_floor)
+      .greater_than(0);
+  num("beta_f", "", "β_f of the di Prisco et al. (1993) yield locus", d.beta_f).greater_than(0);
+  num("gamma", "", "γ of the yield locus (> 3: closed locus)", d.gamma).greater_than(3);
+  num("b_p", "", "plastic compressibility b_p: dr_c = (r_c/b_p)(dε^p_v + ξ dε^p_q)", d.b_p)
+      .greater_than(0);
+  num("xi_psi", "", "ξ_ψ: deviatoric softening of looser-than-critical states (ψ > 0)", d.xi_psi)
+      .at_least(0);
+  num("xi_psi_dense", "", "ξ_ψ,d: deviatoric hardening of denser-than-critical states (ψ < 0)",
+      d.xi_psi_dense).at_least(0);
+  num("c_p", "", "rotational hardening rate of the axis χ", d.c_p).at_least(0);
+  num("theta_hat_c", "rad", "target axis angle θ̂_c in triaxial compression", d.theta_hat_c)
+      .at_least(0).less_than(1.5);
+  num("theta_hat_e", "rad", "target axis angle θ̂_e in triaxial extension", d.theta_hat_e)
+      .at_least(0).less_than(1.5);
+  num("M_c", "", "critical stress ratio q/p' in triaxial compression (Lade-Duncan locus)", d.M_c)
+      .greater_than(0).less_than(3);
+  num("e_Gamma", "", "e_Γ: critical void ratio at p' = 0, e_cs = e_Γ - λ_c (p'/p_atm)^ξ_c",
+      d.e_Gamma).greater_than(0);
+  num("lambda_c", "", "λ_c of the critical state line", d.lambda_c).at_least(0);
+  num("xi_c", "", "ξ_c of the critical state line", d.xi_c).greater_than(0);
+  num("atmospheric_pressure", "Pa", "p_atm of the critical state line", d.atmospheric_pressure)
+      .greater_than(0);
+  num("e_min", "", "minimum void ratio (state parameter bounds, regrowth)", d.e_min).greater_than(0);
+  num("e_max", "", "maximum void ratio (no regrowth above it)", d.e_max).greater_than(0);
+  num("d_0", "", "d_0 of the dilatancy D = d_0 (M_c exp(n_d ψ) - η̃)/η̃", d.d_0).greater_than(0);
+  num("n_d", "", "n_d of the dilatancy", d.n_d);
+  num("fluidization_size", "Pa", "r_c below which the force chains vanish (σ_FC = 0)",
+      d.fluidization_size).greater_than(0);
+  num("resolidification_size", "Pa", "r_c at which a regrowing skeleton is solid again",
+      d.resolidification_size).greater_than(0);
+  num("regrowth_modulus", "Pa", "K_r: dr_c = w(T) K_r <dε_v> while fluidized", d.regrowth_modulus)
+      .at_least(0);
+  num("regrowth_temperature", "m^2/s^2", "T_r: w(T) = max(0, 1 - T/T_r)", d.regrowth_temperature)
+      .greater_than(0);
+  num("stress_tolerance", "", "STOL: relative local error per plastic sub-step",
+      d.stress_tolerance).greater_than(0);
+  num("yield_tolerance", "", "FTOL: |f| accepted as on the locus", d.yield_tolerance)
+      .greater_than(0);
+  f.integer("fixed_substeps", "> 0: that many equal plastic sub-steps, no error control")
+      .default_value(fmt::format("{}", d.fixed_substeps)).at_least(0);
+  f.integer("max_substeps", "plastic sub-steps per update at most")
+      .default_value(fmt::format("{}", d.max_substeps)).at_least(1);
+  return f;
+}
+
+namespace {
+model::force_chains::ForceChainParameters read_force_chain_parameters(const core::Case& c) {
+  model::force_chains::ForceChainParameters p;
+  const auto get = [&](const char* key) { return c.number(std::string("force_chains.") + key); };
+  p.bulk_modulus_ref = get("bulk_modulus_ref");
+  p.reference_pressure = get("reference_pressure");
+  p.elastic_exponent = get("elastic_exponent");
+  p.poisson_ratio = get("poisson_ratio");
+  p.pressure_floor = get("pressure_floor");
+  p.beta_f = get("beta_f");
+  p.gamma = get("gamma");
+  p.b_p = get("b_p");
+  p.xi_psi = get("xi_psi");
+  p.xi_psi_dense = get("xi_psi_dense");
+  p.c_p = get("c_p");
+  p.theta_hat_c = get("theta_hat_c");
+  p.theta_hat_e = get("theta_hat_e");
+  p.M_c = get("M_c");
+  p.e_Gamma = get("e_Gamma");
+  p.lambda_c = get("lambda_c");
+  p.xi_c = get("xi_c");
+  p.atmospheric_pressure = get("atmospheric_pressure");
+  p.e_min = get("e_min");
+  p.e_max = get("e_max");
+  p.d_0 = get("d_0");
+  p.n_d = get("n_d");
+  p.fluidization_size = get("fluidization_size");
+  p.resolidification_size = get("resolidification_size");
+  p.regrowth_modulus = get("regrowth_modulus");
+  p.regrowth_temperature = get("regrowth_temperature");
+  p.stress_tolerance = get("stress_tolerance");
+  p.yield_tolerance = get("yield_tolerance");
+  p.fixed_substeps = static_cast<int>(c.integer("force_chains.fixed_substeps"));
+  p.max_substeps = static_cast<int>(c.integer("force_chains.max_substeps"));
+  try {
+    model::force_chains::validate(p);
+  } catch (const std::invalid_argument& error) {
+    // "force_chains.<key>: expected ..." -> located at that key
+    const std::string message = error.what();
+    const auto colon = message.find(':');
+    std::string key = message.substr(0, colon);
+    if (key.find('/') != std::string::npos) key = "force_chains.e_max";
+    c.fail(key, message.substr(colon + 2));
+  }
+  return p;
+}
+}  // namespace
+
 MultiRegimeSettings read_multi_regime_settings(const core::Case& c) {
   MultiRegimeSettings s;
   auto& col = s.collisional_parameters;
@@ -85,9 +199,13 @@ MultiRegimeSettings read_multi_regime_settings(const core::Case& c) {
   liq.maximum_packing = c.number("liquid.maximum_packing");
   liq.permeability = model::parse_permeability(c.string("liquid.permeability"));
   liq.sphericity = c.number("liquid.sphericity");
-  if (!s.collisional && !s.liquid)
+  if (c.schema().child("force_chains") != nullptr) {
+    s.force_chains = c.boolean("force_chains.enabled");
+    if (s.force_chains) s.force_chain_parameters = read_force_chain_parameters(c);
+  }
+  if (!s.collisional && !s.liquid && !s.force_chains)
     c.fail("collisional.enabled", "at least one stress term must be switched on "
-                                  "(collisional.enabled or liquid.enabled)");
+                                  "(force_chains.enabled, collisional.enabled or liquid.enabled)");
   return s;
 }
 

@@ -1,6 +1,6 @@
 // Case-file sections shared by every kind that runs the continuum model (rev, mpm, pair,
 // calibrate): `material` (grain properties; the DEM reads the same keys), `collisional`,
-// `liquid`. One description of the material, so DEM and continuum cannot drift apart.
+// `liquid`, `force_chains`. One description of the material, so DEM and continuum cannot drift apart.
 #pragma once
 
 #include "core/case.hpp"
@@ -12,8 +12,11 @@ namespace granflow::continuum {
 core::Field material_section();
 core::Field collisional_section();
 core::Field liquid_section();
+// `force_chains`: enabled + the ForceChainParameters (docs/model/force_chains.md); defaults are
+// ForceChainParameters{} (the loose sand of the seed's section 4).
+core::Field force_chains_section();
 
-// Read the three sections of a validated case into the point settings. Throws CaseError
+// Read the sections (force_chains only if the schema has it) of a validated case into the point settings. Throws CaseError
 // (located at the key) for combinations the schema cannot express.
 MultiRegimeSettings read_multi_regime_settings(const core::Case& c);
 

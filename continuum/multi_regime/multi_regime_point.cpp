@@ -6,6 +6,36 @@ namespace granflow::continuum {
 
 MultiRegimePoint::MultiRegimePoint(MultiRegimeSettings settings) : settings_(std::move(settings)) {
   if (!settings_.liquid) settings_.fluctuation_dissipation = false;
+  if (settings_.force_chains) force_chain_model_.emplace(settings_.force_chain_parameters);
+}
+
+PointState MultiRegimePoint::initial_state(double void_ratio, double effective_pressure,
+                                           double ocr, double granular_temperature) const {
+  PointState state;
+  state.solid_fraction = 1.0 / (1.0 + void_ratio);
+  state.granular_temperature = granular_temperature;
+  if (force_chain_model_)
+    state.force_chains = force_chain_model_->isotropic_state(effective_pressure, void_ratio, ocr);
+  state.force_chains.void_ratio = void_ratio;
+  return state;
+}
+
+StressParts MultiRegimePoint::advance(PointState& state, const Eigen::Matrix3d& strain_rate,
+                                      double dt) const {
+  const double T_start = state.granular_temperature;
+  // 1. mass balance: ν (1+e) = 1, 1+e ∝ exp(-ε_v) with compression-positive ε_v
+  state.solid_fraction *= std::exp(strain_rate.trace() * dt);
+  // 2. force chains (rate independent: the increment is ε̇ dt)
+  model::force_chains::UpdateInfo info;
+  if (force_chain_model_) {
+    info = force_chain_model_->update(state.force_chains, strain_rate * dt, dt, T_start);
+  }
+  state.force_chains.void_ratio = 1.0 / state.solid_fraction - 1.0;
+  // 3.-4. T over dt at the new ν, then the rate-dependent parts
+  StressParts parts = update(state, strain_rate, dt);
+  parts.force_chain = state.force_chains.stress;
+  parts.force_chain_update = info;
+  return parts;
 }
 
 double MultiRegimePoint::shear_rate(const Eigen::Matrix3d& strain_rate) {
@@ -18,6 +48,7 @@ double MultiRegimePoint::shear_rate(const Eigen::Matrix3d& strain_rate) {
 StressParts MultiRegimePoint::evaluate(const PointState& state,
                                        const Eigen::Matrix3d& strain_rate) const {
   StressParts parts;
+  if (settings_.force_chains) parts.force_chain = state.force_chains.stress;
   const double nu = state.solid_fraction;
   const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
   const Eigen::Matrix3d deviator = strain_rate - strain_rate.trace() / 3.0 * identity;

@@ -3,34 +3,46 @@
 //     σ = σ_FC + σ_COL + σ_L,
 // and the granular temperature T follows the energy balance of model.md §5 (seed Eq. 21).
 // Terms switched off in the case are skipped by one branch per update, outside any inner loop,
-// so they cost nothing. The force-chain term (σ_FC, issue 3) plugs in beside these two.
+// so they cost nothing. The force-chain term σ_FC (model.md §2,
+// model::force_chains::ForceChainModel) is the effective stress σ' of the skeleton; it is rate
+// independent and carries the state (σ_FC, χ, r_c). T raises p_COL; under an imposed total stress
+// (REV drivers, rev/element_test.hpp) the force-chain part therefore unloads as p_COL rises.
 //
 // Sign convention inside granflow's constitutive code: compression-positive stress and strain
 // rate (soil mechanics, model.md §0): tr(ε̇) > 0 is compaction.
 #pragma once
 
+#include <optional>
+
 #include <Eigen/Core>
 
 #include "continuum/model/closures.hpp"
+#include "continuum/model/force_chains/force_chain_model.hpp"
 #include "continuum/multi_regime/granular_temperature_update.hpp"
 
 namespace granflow::continuum {
 
 struct MultiRegimeSettings {
+  bool force_chains = false;             // σ_FC (effective stress of the skeleton)
   bool collisional = true;               // σ_COL, Γ and the T balance
   bool liquid = false;                   // σ_L viscous part, η(ν)
   bool fluctuation_dissipation = false;  // Λ (needs liquid)
   model::CollisionalParameters collisional_parameters;
   model::LiquidParameters liquid_parameters;
+  model::force_chains::ForceChainParameters force_chain_parameters;
 };
 
 struct PointState {
   double solid_fraction = 0.5;        // ν = 1/(1+e)
   double granular_temperature = 0.0;  // T, m²/s²
+  // σ_FC, χ, r_c and e of the skeleton (used only with settings.force_chains; its void ratio is
+  // kept equal to 1/ν - 1 by advance()).
+  model::force_chains::ForceChainState force_chains{};
 };
 
 // Everything one evaluation produces (compression-positive stresses, Pa).
 struct StressParts {
+  Eigen::Matrix3d force_chain = Eigen::Matrix3d::Zero();  // σ_FC = σ' (effective stress)
   Eigen::Matrix3d collisional = Eigen::Matrix3d::Zero();
   Eigen::Matrix3d liquid = Eigen::Matrix3d::Zero();
   double collisional_pressure = 0;      // p_COL, Pa
@@ -41,6 +53,10 @@ struct StressParts {
   double liquid_dissipation = 0;        // Λ, W/m³
   double collisional_power = 0;         // σ_COL : ε̇, W/m³
   RiccatiCoefficients temperature_equation;  // coefficients of ds/dt, s = T^½
+  model::force_chains::UpdateInfo force_chain_update;  // of the last advance() (diagnostics)
+
+  // σ_FC + σ_COL + σ_L without the pore pressure u_w (the driver adds u_w I).
+  Eigen::Matrix3d total_without_pore_pressure() const { return force_chain + collisional + liquid; }
 };
 
 class MultiRegimePoint {
@@ -58,6 +74,24 @@ class MultiRegimePoint {
   StressParts update(PointState& state, const Eigen::Matrix3d& strain_rate, double dt,
                      double heat_capacity_factor = 1.0) const;
 
+  // Full material-point update over dt at the strain rate ε̇ (compression positive), in order:
+  //  1. ν <- ν exp(tr ε̇ dt) (mass balance, seed Eq. 1: 1+e ∝ exp(-ε_v));
+  //  2. σ_FC, χ, r_c by the force-chain model with Δε = ε̇ dt and the T at the start of the step
+  //     (its regrowth rule needs T);
+  //  3. T by the exact Riccati update of T^½ with the coefficients at the new ν;
+  //  4. σ_COL, σ_L at the new state.
+  // Each part is skipped when its term is off. Not thread-safe per state, const per point.
+  // Throws std::domain_error if ν leaves the range of the closures (the driver prevents it).
+  StressParts advance(PointState& state, const Eigen::Matrix3d& strain_rate, double dt) const;
+
+  // Isotropic initial state: e, effective pressure p' (σ_FC = p' I), ocr = r_c/(√3 p') >= 1, T.
+  PointState initial_state(double void_ratio, double effective_pressure, double ocr,
+                           double granular_temperature) const;
+
+  const model::force_chains::ForceChainModel* force_chain_model() const {
+    return force_chain_model_ ? &*force_chain_model_ : nullptr;
+  }
+
   // Shear rate γ̇ = 2 sqrt(ε̇':ε̇' / 2)... for simple shear ε̇_xy = γ̇/2 gives γ̇.
   static double shear_rate(const Eigen::Matrix3d& strain_rate);
 
@@ -65,6 +99,7 @@ class MultiRegimePoint {
 
  private:
   MultiRegimeSettings settings_;
+  std::optional<model::force_chains::ForceChainModel> force_chain_model_;
 };
 
 }  // namespace granflow::continuum

@@ -13,8 +13,10 @@ core::Schema simple_shear_schema() {
   core::Schema s = core::kind_header(
       "rev", "simple_shear",
       "Homogeneous simple shear of one material point at imposed shear rate, at constant volume "
-      "or constant normal stress, integrated to steady state (model.md §3-5).");
+      "or constant normal stress, integrated to steady state (model.md §3-5). With force_chains "
+      "enabled (constant volume only) the skeleton σ_FC works in parallel: all terms.");
   s.add(continuum::material_section());
+  s.add(continuum::force_chains_section());
   s.add(continuum::collisional_section());
   s.add(continuum::liquid_section());
   auto& loading = s.section("loading", "imposed shear and volume/normal-stress control");
@@ -28,6 +30,10 @@ core::Schema simple_shear_schema() {
       .greater_than(0).sweepable();
   auto& initial = s.section("initial", "initial state");
   initial.number("granular_temperature", "m^2/s^2", "T at t = 0").default_value("1.0e-6").at_least(0);
+  initial.number("effective_pressure", "Pa", "isotropic σ_FC = p'0 I at t = 0 (force chains on)")
+      .default_value("50.0e3").greater_than(0).sweepable();
+  initial.number("overconsolidation", "", "r_c0 / (√3 p'0) (force chains on)").default_value("1")
+      .at_least(1);
   auto& integration = s.section("integration", "accuracy controls of the time integration");
   integration.number("time_step_factor", "", "Δt = factor × min(1/γ̇, relaxation time of T)")
       .default_value("0.5").greater_than(0);
@@ -37,6 +43,8 @@ core::Schema simple_shear_schema() {
       .default_value("1.0e4").greater_than(0);
   integration.integer("max_steps", "give up beyond this number of steps").default_value("1000000")
       .greater_than(0);
+  integration.number("strain_increment", "", "largest shear strain increment per step with force chains")
+      .default_value("1.0e-3").greater_than(0).at_most(0.05);
   return s;
 }
 
@@ -45,6 +53,9 @@ namespace {
 void check_simple_shear(const core::Case& c) {
   const auto settings = continuum::read_multi_regime_settings(c);
   const std::string control = c.string("loading.control");
+  if (settings.force_chains && control != "constant_volume")
+    c.fail("loading.control", "with force_chains.enabled the simple shear runs at constant_volume "
+                              "(use kind: rev, test: triaxial for an imposed total stress)");
   if (control == "constant_volume") {
     if (!c.has("loading.void_ratio"))
       c.fail("loading.void_ratio", "missing required key for constant_volume; expected a void ratio > 0");
@@ -108,6 +119,9 @@ SimpleShearControl read_control(const core::Case& c) {
   control.steady_tolerance = c.number("integration.steady_tolerance");
   control.max_strain = c.number("integration.max_strain");
   control.max_steps = c.integer("integration.max_steps");
+  control.effective_pressure = c.number("initial.effective_pressure");
+  control.overconsolidation = c.number("initial.overconsolidation");
+  control.strain_increment = c.number("integration.strain_increment");
   return control;
 }
 
@@ -124,6 +138,9 @@ void write_series(core::ResultFile& out, const std::string& group, const SimpleS
   out.write(group + "/liquid_shear_stress", s.liquid_shear_stress, "Pa", "τ_L = η(ν) γ̇");
   out.write(group + "/friction", s.friction, "1", "stress ratio μ = τ/p");
   out.write(group + "/inertial_number", s.inertial_number, "1", "I = γ̇ d / sqrt(p/ρ_p)");
+  out.write(group + "/force_chain_shear_stress", s.force_chain_shear_stress, "Pa", "τ_FC");
+  out.write(group + "/effective_pressure", s.effective_pressure, "Pa", "p' = p_FC");
+  out.write(group + "/yield_size", s.yield_size, "Pa", "r_c of the force chains");
 }
 
 int run_simple_shear_case(core::RunContext& ctx) {
@@ -182,12 +199,17 @@ int run_simple_shear_case(core::RunContext& ctx) {
     sum.set("steady.I" + suffix, s.inertial_number);
     sum.set("steady.start_strain" + suffix, s.strain);
     sum.set("steady.reached" + suffix, s.reached ? 1 : 0);
+    if (settings.force_chains) {
+      sum.set("steady.tau_fc" + suffix, s.force_chain_shear_stress);
+      sum.set("steady.p_eff" + suffix, s.effective_pressure);
+      sum.set("final.r_c" + suffix, s.yield_size);
+    }
     if (settings.liquid) {
       sum.set("steady.J" + suffix, s.viscous_number);
       sum.set("steady.K" + suffix, K);
     }
     // The closed form of model.md §3 (no liquid, L = d): T = (f2/f3) d² γ̇², μ = sqrt(f2 f3)/f1.
-    if (settings.collisional && !settings.liquid &&
+    if (settings.collisional && !settings.liquid && !settings.force_chains &&
         settings.collisional_parameters.correlation_length == model::CorrelationLengthKind::diameter) {
       const auto& p = settings.collisional_parameters;
       const auto k = model::collisional_coefficients(p, s.solid_fraction);
@@ -257,6 +279,7 @@ void register_rev_kinds(core::KindRegistry& registry) {
                 "steady homogeneous simple shear of a material point (collisional + liquid)",
                 simple_shear_schema(), check_simple_shear, run_simple_shear_case,
                 "cases/rev/simple_shear_dry.yaml"});
+  register_element_test_kinds(registry);
 }
 
 }  // namespace granflow::rev

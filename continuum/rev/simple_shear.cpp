@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -79,10 +80,15 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
   const double gamma_dot = control.shear_rate;
   const Eigen::Matrix3d shear = simple_shear_rate(gamma_dot);
 
-  continuum::PointState state;
-  state.granular_temperature = control.initial_temperature;
-  state.solid_fraction = 1.0 / (1.0 + control.void_ratio);
+  const bool force_chains = settings.force_chains;
+  continuum::PointState state = point.initial_state(control.void_ratio, control.effective_pressure,
+                                                    control.overconsolidation,
+                                                    control.initial_temperature);
   const bool constant_pressure = control.control == ShearControl::constant_pressure;
+  if (constant_pressure && force_chains)
+    throw std::invalid_argument(
+        "simple shear at constant pressure with force chains is not implemented (the skeleton "
+        "and p_COL share the imposed p); use constant_volume or kind: rev, test: triaxial");
   if (constant_pressure)
     state.solid_fraction =
         solid_fraction_at_pressure(point, control.normal_stress, state.granular_temperature);
@@ -116,14 +122,17 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
     const double relaxation = settings.collisional && std::isfinite(s_star)
                                   ? 1.0 / std::max(std::abs(k.c + 2 * k.b * s_star), 1e-300)
                                   : INFINITY;
-    const double dt = control.time_step_factor * std::min(1.0 / gamma_dot, relaxation);
+    double dt = control.time_step_factor * std::min(1.0 / gamma_dot, relaxation);
+    if (force_chains) dt = std::min(dt, control.strain_increment / gamma_dot);
     core::check_finite(dt, step, "REV point", "time_step", true);
     const double s_now = std::sqrt(std::max(state.granular_temperature, 0.0));
     result.max_explicit_ratio =
         std::max(result.max_explicit_ratio, dt / continuum::explicit_step_limit(k, s_now));
 
     const double T_old = state.granular_temperature, nu_old = state.solid_fraction;
-    auto parts = point.update(state, rate, dt, heat_capacity_factor);
+    const Eigen::Matrix3d fc_old = state.force_chains.stress;
+    auto parts = force_chains ? point.advance(state, rate, dt)
+                              : point.update(state, rate, dt, heat_capacity_factor);
     if (constant_pressure) {
       state.solid_fraction =
           solid_fraction_at_pressure(point, control.normal_stress, state.granular_temperature);
@@ -144,8 +153,10 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
     core::check_finite(T, step, "REV point", "granular_temperature", true);
     core::check_finite(nu, step, "REV point", "solid_fraction", true);
     const double tau_col = -parts.collisional(0, 1), tau_liq = -parts.liquid(0, 1);
-    const double tau = tau_col + tau_liq;
-    const double p = parts.collisional_pressure;
+    const double tau_fc = 0.0 - parts.force_chain(0, 1);
+    const double tau = tau_col + tau_liq + tau_fc;
+    const double p_eff = parts.force_chain.trace() / 3.0;
+    const double p = parts.collisional_pressure + p_eff;
     core::check_finite(tau, step, "REV point", "shear_stress");
     series.time.push_back(time);
     series.strain.push_back(strain);
@@ -159,13 +170,20 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
     series.liquid_shear_stress.push_back(tau_liq);
     series.friction.push_back(p > 0 ? tau / p : INFINITY);
     series.inertial_number.push_back(p > 0 ? gamma_dot * d / std::sqrt(p / rho_p) : INFINITY);
+    series.force_chain_shear_stress.push_back(tau_fc);
+    series.effective_pressure.push_back(p_eff);
+    series.yield_size.push_back(state.force_chains.r_c);
     result.steps = step;
 
     // Steady: relative change of T and ν per unit strain below the tolerance for 5 steps.
     const double dstrain = gamma_dot * dt;
-    const double change = std::max(std::abs(T - T_old) / std::max(T, 1e-300),
-                                   std::abs(nu - nu_old) / nu) / dstrain;
-    quiet_steps = (!settings.collisional || change < control.steady_tolerance) ? quiet_steps + 1 : 0;
+    double change = std::max(std::abs(T - T_old) / std::max(T, 1e-300),
+                             std::abs(nu - nu_old) / nu) / dstrain;
+    if (force_chains)  // the skeleton's stress must be stationary too (relative to |σ_FC| + 1 Pa)
+      change = std::max(change, (state.force_chains.stress - fc_old).norm() /
+                                    (state.force_chains.stress.norm() + 1.0) / dstrain);
+    quiet_steps =
+        ((!settings.collisional && !force_chains) || change < control.steady_tolerance) ? quiet_steps + 1 : 0;
     if (progress && step % 1000 == 0) progress(strain);
     if (quiet_steps >= 5 || strain >= control.max_strain) {
       auto& s = result.steady;
@@ -178,6 +196,9 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
       s.shear_stress = tau;
       s.collisional_shear_stress = tau_col;
       s.liquid_shear_stress = tau_liq;
+      s.force_chain_shear_stress = tau_fc;
+      s.effective_pressure = p_eff;
+      s.yield_size = state.force_chains.r_c;
       s.friction = series.friction.back();
       s.inertial_number = series.inertial_number.back();
       s.viscous_number = settings.liquid && p > 0
