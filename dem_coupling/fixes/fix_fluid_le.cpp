@@ -142,6 +142,18 @@ FixFluidLE::FixFluidLE(LAMMPS_NS::LAMMPS* lmp, int narg, char** arg) : Fix(lmp, 
     fail(
         "fix fluid/le: needs 'viscosity ETA' and 'permeability NAME' (seed_eq26, kozeny_carman, "
         "ergun)");
+  if (settings_.lubrication) {
+    // Reach of the granular list (see init()): register the contact distance factor now, from
+    // the particles that exist when the fix is defined, since the pair style's cutoff is set in
+    // force->init() before any fix's init().
+    double r_min = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < atom->nlocal; ++i)
+      if (atom->mask[i] & groupbit) r_min = std::min(r_min, atom->radius[i]);
+    double r_min_all = r_min;
+    MPI_Allreduce(&r_min, &r_min_all, 1, MPI_DOUBLE, MPI_MIN, world);
+    if (std::isfinite(r_min_all) && r_min_all > 0.0)
+      neighbor->register_contact_dist_factor(1.0 + settings_.maximum_gap / (2.0 * r_min_all));
+  }
   vector_flag = 1;
   size_vector = vec::size;
   global_freq = 1;
@@ -184,7 +196,16 @@ void FixFluidLE::init() {
           "asymptotics and the log(1/h) term need h << r)");
     // The granular list keeps pairs with r < (r_i + r_j) cdf + skin; every pair with
     // h < (r_i + r_j)(cdf - 1) stays listed between rebuilds, so cdf = 1 + HMAX / (2 r_min).
-    neighbor->register_contact_dist_factor(1.0 + settings_.maximum_gap / (2.0 * smallest_radius_));
+    // The pair style reads the factor in force->init(), before fixes are initialised, so the
+    // constructor registered it; a radius that shrank since is caught here.
+    const double needed = 1.0 + settings_.maximum_gap / (2.0 * smallest_radius_);
+    if (neighbor->contactDistanceFactor < needed * (1.0 - 1e-12))
+      fail(
+          "fix fluid/le: the granular neighbour list does not reach HMAX: use 'neigh_modify "
+          "contact_distance_factor " +
+          std::to_string(needed) +
+          "' (1 + HMAX / (2 r_min)) "
+          "before the first run");
   }
 }
 
