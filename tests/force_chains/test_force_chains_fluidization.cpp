@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <stdexcept>
 
 #include "continuum/model/force_chains/force_chain_model.hpp"
 #include "tests/force_chains/strain_drivers.hpp"
@@ -148,7 +149,7 @@ TEST(ForceChainsFluidization, StableAtTheExtremes) {
   };
   const Start starts[] = {{50e3, 0.70, 1}, {1e5, 0.45, 1}, {1e5, 1.0, 1}, {200.0, 0.7, 1},
                           {2e3, 0.3, 1},   {2e3, 1.5, 3},  {1e7, 0.6, 1}};
-  int fluidized = 0, updates = 0;
+  int fluidized = 0, updates = 0, refused = 0;
   for (const auto& st : starts)
     for (double h : sizes)
       for (int path = 0; path < 4; ++path) {
@@ -160,13 +161,36 @@ TEST(ForceChainsFluidization, StableAtTheExtremes) {
         for (int i = 0; i < 40; ++i) {
           // alternate the path now and then: loading, unloading, reversal
           const Eigen::Matrix3d de = (i % 13 == 12 ? -1.0 : 1.0) * h * dir;
+          if (de.trace() >= std::log1p(s.void_ratio)) {
+            // compaction beyond e = 0 is refused with a message, not integrated
+            EXPECT_THROW(model.update(s, de, 1e-4, 0.0), std::invalid_argument);
+            ++refused;
+            break;
+          }
           const auto info = model.update(s, de, 1e-4, i % 2 ? 0.0 : 1e-2);
           ++updates;
           expect_sane(model, s, info, "extremes");
         }
         fluidized += s.fluidized;
       }
-  std::printf("extremes: %d updates, %d paths ended fluidized\n", updates, fluidized);
+  std::printf("extremes: %d updates, %d paths ended fluidized, %d refused (e < 0)\n", updates,
+              fluidized, refused);
+  // absurd increments (30 % and 100 % strain in one update): finite, or refused, never NaN; the
+  // sub-step budget bounds the cost
+  for (double h : {0.3, 1.0})
+    for (int path = 0; path < 6; ++path) {
+      auto s = model.isotropic_state(1e3 + 4e4 * path, 0.5 + 0.05 * path);
+      Eigen::Matrix3d dir;
+      for (int i = 0; i < 3; ++i)
+        for (int j = i; j < 3; ++j) dir(i, j) = dir(j, i) = u(rng);
+      dir /= dir.norm();
+      for (int i = 0; i < 4; ++i) {
+        const Eigen::Matrix3d de = (i == 2 ? -h : h) * dir;
+        if (de.trace() >= std::log1p(s.void_ratio)) break;
+        const auto info = model.update(s, de, 1e-4, 0.0);
+        expect_sane(model, s, info, "absurd increment");
+      }
+    }
   EXPECT_GT(fluidized, 0);  // the set does include fluidizing paths
   // p' -> 0 under a pure tension increment from 1 Pa: stress-free, not NaN
   auto s = model.isotropic_state(1e5, 0.7);
@@ -174,6 +198,10 @@ TEST(ForceChainsFluidization, StableAtTheExtremes) {
   const auto info = model.update(s, diag(-1e-2, -1e-2, -1e-2), 1e-4, 0.0);
   expect_sane(model, s, info, "p -> 0");
   EXPECT_TRUE(info.contact_loss);
+  // a NaN strain is refused with a message before it can reach the state
+  auto t = model.isotropic_state(1e5, 0.7);
+  EXPECT_THROW(model.update(t, diag(std::nan(""), 0, 0), 1e-4, 0.0), std::invalid_argument);
+  EXPECT_EQ(fc::testing::p_of(t), 1e5);
 }
 
 TEST(ForceChainsFluidization, MaterialFileMatchesTheDefaults) {

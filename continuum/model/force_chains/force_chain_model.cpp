@@ -132,7 +132,8 @@ ForceChainModel::Increment ForceChainModel::increment(const Point& y, const Tens
 }
 
 double ForceChainModel::correct_drift(Point& y) const {
-  if (!admissible(y.stress, y.chi, y.r_c)) return safe_yield(y.stress, y.chi, y.r_c);
+  if (!(y.r_c > 0.0) || !admissible(y.stress, y.chi, y.r_c))
+    return safe_yield(y.stress, y.chi, y.r_c);
   double f0 = yield_.value(y.stress, y.chi, y.r_c);
   for (int it = 0; it < 4 && std::abs(f0) > par_.yield_tolerance; ++it) {
     const PlasticRates r = plastic_rates(y);
@@ -232,6 +233,7 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& in
   double t = 0.0, dt = fixed ? 1.0 / par_.fixed_substeps : 1.0;
   bool last_failed = false;
   int attempts = 0;
+  double dt_budget = 0.0;  // once max_substeps is spent: the rest in at most 64 forced steps
   auto at_apex = [](const Point& z) { return !admissible(z.stress, z.chi, z.r_c); };
   auto add = [](const Point& z, const Increment& a, const Increment& b, double w) {
     Point out = z;
@@ -244,34 +246,44 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& in
   };
   const Increment zero{Tensor::Zero(), Tensor::Zero(), Tensor::Zero(), 0.0, 0.0, 0.0};
   while (t < 1.0 - 1e-12) {
-    ++attempts;
+    if (++attempts == par_.max_substeps) {
+      info.substep_budget_exhausted = true;
+      dt_budget = (1.0 - t) / 64.0;
+      dt = std::max(dt, dt_budget);
+    }
     const bool last_chance = fixed || attempts >= par_.max_substeps || dt < 1e-9;
     const Tensor sub = dt * rest;
     const Increment k1 = increment(y, sub, true);
     const Point y1 = add(y, k1, zero, 1.0);
     Point next = y1;
     double error = 0.0;
-    bool apex = at_apex(y1);
-    if (!apex) {
+    // r_c <= 0 inside the pair means the step overshot the collapse of the locus
+    bool apex = at_apex(y1), overshoot = !(y1.r_c > 0.0);
+    if (!apex && !overshoot) {
       const Increment k2 = increment(y1, sub, true);
       next = add(y, k1, k2, 0.5);
       apex = at_apex(next);
+      overshoot = !(next.r_c > 0.0);
       const double stress_scale = std::max(next.stress.norm(), par_.pressure_floor);
       const double size_scale = std::max(next.r_c, par_.fluidization_size);
       // local error of the Euler/modified-Euler pair: stress and r_c relative, χ absolute (unit)
       error =
           std::max({0.5 * (k2.stress - k1.stress).norm() / stress_scale,
                     0.5 * std::abs(k2.r_c - k1.r_c) / size_scale, 0.5 * (k2.chi - k1.chi).norm()});
+      if (!std::isfinite(error)) overshoot = true;
     }
-    if (apex) {
-      if (!last_chance) {  // shorten the step to approach the apex
-        dt *= 0.25;
-        ++info.rejected_substeps;
-        last_failed = true;
-        continue;
-      }
-      return (1.0 - alpha) * (1.0 - t);  // the rest is contact loss at the apex
+    if ((apex || overshoot) && !last_chance) {  // shorten the step to approach the apex/collapse
+      dt *= 0.25;
+      ++info.rejected_substeps;
+      last_failed = true;
+      continue;
     }
+    if (overshoot) {  // forced: the locus collapsed within this sub-step -> fluidization
+      y.r_c = 0.0;
+      info.plastic = true;
+      return 0.0;
+    }
+    if (apex) return (1.0 - alpha) * (1.0 - t);  // the rest is contact loss at the apex
     if (!last_chance && error > stol) {
       ++info.rejected_substeps;
       dt *= std::max(0.9 * std::sqrt(stol / error), 0.1);
@@ -280,18 +292,18 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& in
     }
     y = next;
     y.chi /= y.chi.norm();
-    info.yield_value = correct_drift(y);
     t += dt;
     ++info.substeps;
     info.plastic = true;
     if (y.r_c < par_.fluidization_size) return 0.0;  // fluidized: the caller clears σ
+    info.yield_value = correct_drift(y);
     if (!fixed) {
       double factor = error > 0.0 ? 0.9 * std::sqrt(stol / error) : 1.1;
       factor = std::clamp(factor, 0.1, last_failed ? 1.0 : 1.1);
       dt *= factor;
       last_failed = false;
     }
-    dt = std::min(dt, 1.0 - t);
+    dt = std::min(std::max(dt, dt_budget), 1.0 - t);
   }
   return 0.0;
 }
@@ -312,6 +324,11 @@ UpdateInfo ForceChainModel::update(ForceChainState& state, const Eigen::Matrix3d
                                    double /*dt*/, double granular_temperature) const {
   if (!strain_increment.allFinite())
     throw std::invalid_argument("force_chains: non-finite strain increment");
+  // 1 + e_new = (1 + e) exp(-Δε_v) must stay above 1 (e >= 0: no grain interpenetration)
+  if (strain_increment.trace() >= std::log1p(std::max(state.void_ratio, 0.0)))
+    throw std::invalid_argument(
+        "force_chains: volumetric strain increment compacts the skeleton "
+        "beyond zero void ratio");
   UpdateInfo info;
   const double void_ratio_new =
       std::max((1.0 + state.void_ratio) * std::exp(-strain_increment.trace()) - 1.0, 0.0);

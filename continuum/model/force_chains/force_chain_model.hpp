@@ -35,13 +35,15 @@ struct ForceChainState {
 };
 
 struct UpdateInfo {
-  bool plastic = false;       // some plastic flow happened
-  bool contact_loss = false;  // the stress path reached the stress-free apex
-  bool became_fluid = false;  // r_c fell below fluidization_size during this update
-  bool resolidified = false;  // regrowth brought r_c back to resolidification_size
-  int substeps = 0;           // accepted plastic sub-steps
-  int rejected_substeps = 0;  // rejected by the error control
-  double yield_value = 0.0;   // f at the end (dimensionless; <= yield_tolerance when solid)
+  bool plastic = false;                   // some plastic flow happened
+  bool contact_loss = false;              // the stress path reached the stress-free apex
+  bool became_fluid = false;              // r_c fell below fluidization_size during this update
+  bool resolidified = false;              // regrowth brought r_c back to resolidification_size
+  int substeps = 0;                       // accepted plastic sub-steps
+  int rejected_substeps = 0;              // rejected by the error control
+  bool substep_budget_exhausted = false;  // max_substeps reached: the rest was integrated in
+                                          // <= 64 forced sub-steps (error above STOL)
+  double yield_value = 0.0;  // f at the end (dimensionless; <= yield_tolerance when solid)
   double plastic_volumetric_strain = 0.0;  // Δε^p_v of this update
 };
 
