@@ -43,7 +43,7 @@ struct UpdateInfo {
   int rejected_substeps = 0;              // rejected by the error control
   bool substep_budget_exhausted = false;  // max_substeps reached: the rest was integrated in
                                           // <= 64 forced sub-steps (error above STOL)
-  double yield_value = 0.0;  // f at the end (dimensionless; <= yield_tolerance when solid)
+  double yield_value = 0.0;  // f at the end (dimensionless; |f| <= 1e-6 after plastic flow)
   double plastic_volumetric_strain = 0.0;  // Δε^p_v of this update
 };
 
@@ -53,7 +53,9 @@ class ForceChainModel {
 
   // Strain increment (compression positive) over dt, with the granular temperature T (m²/s²)
   // of the collisional part for the regrowth rule. dt only documents the rate: the model is
-  // rate independent.
+  // rate independent. A state with r_c < fluidization_size (e.g. default-constructed) is
+  // fluidized on entry. Throws std::invalid_argument for a non-finite increment or one that
+  // compacts beyond e = 0 (Δε_v >= ln(1+e)); std::runtime_error if the result is not finite.
   UpdateInfo update(ForceChainState& state, const Eigen::Matrix3d& strain_increment, double dt,
                     double granular_temperature) const;
 
