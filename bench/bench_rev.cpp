@@ -33,7 +33,8 @@ BENCHMARK(BM_PointUpdate)->Arg(0)->Arg(1);
 static void BM_SimpleShearToSteady(benchmark::State& state) {
   const continuum::MultiRegimePoint point(settings(false));
   rev::SimpleShearControl control;
-  control.control = state.range(0) ? rev::ShearControl::constant_pressure : rev::ShearControl::constant_volume;
+  control.control =
+      state.range(0) ? rev::ShearControl::constant_pressure : rev::ShearControl::constant_volume;
   control.normal_stress = 100;
   control.shear_rate = 50;
   long steps = 0;
@@ -42,7 +43,8 @@ static void BM_SimpleShearToSteady(benchmark::State& state) {
     steps += r.steps;
     benchmark::DoNotOptimize(r.steady.granular_temperature);
   }
-  state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kIsRate);
+  state.counters["steps_per_s"] =
+      benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kIsRate);
   state.SetLabel(state.range(0) ? "constant pressure" : "constant volume");
 }
 BENCHMARK(BM_SimpleShearToSteady)->Arg(0)->Arg(1);

@@ -8,14 +8,20 @@ core::Field material_section() {
   core::Field m("material", core::ValueType::section, "", "grain properties (shared with the DEM)");
   m.number("diameter", "m", "mean grain diameter d").required().greater_than(0);
   m.number("particle_density", "kg/m^3", "grain density ρ_p").required().greater_than(0);
-  m.number("restitution", "", "normal coefficient of restitution e_r").required()
-      .greater_than(0).at_most(1);
+  m.number("restitution", "", "normal coefficient of restitution e_r")
+      .required()
+      .greater_than(0)
+      .at_most(1);
   m.number("particle_friction", "", "interparticle friction coefficient μ_p")
-      .default_value("0.5").at_least(0);
+      .default_value("0.5")
+      .at_least(0);
   m.number("youngs_modulus", "Pa", "grain Young's modulus (DEM contact stiffness)")
-      .default_value("1.0e7").greater_than(0);
-  m.number("poisson_ratio", "", "grain Poisson ratio (DEM)").default_value("0.3")
-      .greater_than(-1).less_than(0.5);
+      .default_value("1.0e7")
+      .greater_than(0);
+  m.number("poisson_ratio", "", "grain Poisson ratio (DEM)")
+      .default_value("0.3")
+      .greater_than(-1)
+      .less_than(0.5);
   return m;
 }
 
@@ -23,10 +29,12 @@ core::Field collisional_section() {
   core::Field c("collisional", core::ValueType::section, "",
                 "extended kinetic theory term σ_COL, Γ and the T balance (model.md §3)");
   c.boolean("enabled", "switch the collisional term on/off").default_value("true");
-  c.choice("radial_distribution", model::radial_distribution_names(),
-           "g0 at contact").default_value("chialvo_sundaresan");
+  c.choice("radial_distribution", model::radial_distribution_names(), "g0 at contact")
+      .default_value("chialvo_sundaresan");
   c.number("jamming_fraction", "", "ν_c where g0 diverges (≈0.639 frictionless, ≈0.587 at μ_p=0.5)")
-      .default_value("0.587").greater_than(0.49).less_than(0.74);
+      .default_value("0.587")
+      .greater_than(0.49)
+      .less_than(0.74);
   c.choice("effective_restitution", model::effective_restitution_names(),
            "ε in Γ: the plain restitution or the Chialvo-Sundaresan frictional correction")
       .default_value("chialvo_sundaresan");
@@ -34,7 +42,8 @@ core::Field collisional_section() {
            "L in Γ: the diameter (standard kinetic theory) or Jenkins' extended length")
       .default_value("diameter");
   c.number("correlation_length_constant", "", "c of Jenkins' correlation length")
-      .default_value("0.5").greater_than(0);
+      .default_value("0.5")
+      .greater_than(0);
   return c;
 }
 
@@ -48,14 +57,19 @@ core::Field liquid_section() {
   l.choice("mixture_viscosity", model::mixture_viscosity_names(), "η(ν) closure")
       .default_value("boyer");
   l.number("maximum_packing", "", "ν_m of the Krieger-Dougherty / Boyer viscosity")
-      .default_value("0.585").greater_than(0.3).less_than(0.74);
+      .default_value("0.585")
+      .greater_than(0.3)
+      .less_than(0.74);
   l.choice("permeability", model::permeability_names(), "permeability κ(e) closure for the drag")
       .default_value("seed_eq26");
-  l.number("sphericity", "", "A in seed Eq. 26 (1 for spheres)").default_value("1")
-      .greater_than(0).at_most(1);
+  l.number("sphericity", "", "A in seed Eq. 26 (1 for spheres)")
+      .default_value("1")
+      .greater_than(0)
+      .at_most(1);
   l.boolean("fluctuation_dissipation", "Λ: fluctuation energy given to the liquid")
       .default_value("true");
-  l.number("trulsson_alpha", "", "α of K = J + α I² (reporting only)").default_value("0.6")
+  l.number("trulsson_alpha", "", "α of K = J + α I² (reporting only)")
+      .default_value("0.6")
       .greater_than(0);
   return l;
 }
@@ -79,7 +93,8 @@ core::Field force_chains_section() {
   num("reference_pressure", "Pa", "p_ref of the elastic law", d.reference_pressure).greater_than(0);
   num("elastic_exponent", "", "n of the elastic law", d.elastic_exponent).at_least(0).less_than(1);
   num("poisson_ratio", "", "Poisson ratio of the skeleton (constant)", d.poisson_ratio)
-      .greater_than(-1).less_than(0.5);
+      .greater_than(-1)
+      .less_than(0.5);
   num("pressure_floor", "Pa", "p_floor: K stays K(p_floor) > 0 below it", d.pressure_floor)
       .greater_than(0);
   num("beta_f", "", "β_f of the di Prisco et al. (1993) yield locus", d.beta_f).greater_than(0);
@@ -89,40 +104,50 @@ core::Field force_chains_section() {
   num("xi_psi", "", "ξ_ψ: deviatoric softening of looser-than-critical states (ψ > 0)", d.xi_psi)
       .at_least(0);
   num("xi_psi_dense", "", "ξ_ψ,d: deviatoric hardening of denser-than-critical states (ψ < 0)",
-      d.xi_psi_dense).at_least(0);
+      d.xi_psi_dense)
+      .at_least(0);
   num("c_p", "", "rotational hardening rate of the axis χ", d.c_p).at_least(0);
   num("theta_hat_c", "rad", "target axis angle θ̂_c in triaxial compression", d.theta_hat_c)
-      .at_least(0).less_than(1.5);
+      .at_least(0)
+      .less_than(1.5);
   num("theta_hat_e", "rad", "target axis angle θ̂_e in triaxial extension", d.theta_hat_e)
-      .at_least(0).less_than(1.5);
+      .at_least(0)
+      .less_than(1.5);
   num("M_c", "", "critical stress ratio q/p' in triaxial compression (Lade-Duncan locus)", d.M_c)
-      .greater_than(0).less_than(3);
+      .greater_than(0)
+      .less_than(3);
   num("e_Gamma", "", "e_Γ: critical void ratio at p' = 0, e_cs = e_Γ - λ_c (p'/p_atm)^ξ_c",
-      d.e_Gamma).greater_than(0);
+      d.e_Gamma)
+      .greater_than(0);
   num("lambda_c", "", "λ_c of the critical state line", d.lambda_c).at_least(0);
   num("xi_c", "", "ξ_c of the critical state line", d.xi_c).greater_than(0);
   num("atmospheric_pressure", "Pa", "p_atm of the critical state line", d.atmospheric_pressure)
       .greater_than(0);
-  num("e_min", "", "minimum void ratio (state parameter bounds, regrowth)", d.e_min).greater_than(0);
+  num("e_min", "", "minimum void ratio (state parameter bounds, regrowth)", d.e_min)
+      .greater_than(0);
   num("e_max", "", "maximum void ratio (no regrowth above it)", d.e_max).greater_than(0);
   num("d_0", "", "d_0 of the dilatancy D = d_0 (M_c exp(n_d ψ) - η̃)/η̃", d.d_0).greater_than(0);
   num("n_d", "", "n_d of the dilatancy", d.n_d);
   num("fluidization_size", "Pa", "r_c below which the force chains vanish (σ_FC = 0)",
-      d.fluidization_size).greater_than(0);
+      d.fluidization_size)
+      .greater_than(0);
   num("resolidification_size", "Pa", "r_c at which a regrowing skeleton is solid again",
-      d.resolidification_size).greater_than(0);
+      d.resolidification_size)
+      .greater_than(0);
   num("regrowth_modulus", "Pa", "K_r: dr_c = w(T) K_r <dε_v> while fluidized", d.regrowth_modulus)
       .at_least(0);
   num("regrowth_temperature", "m^2/s^2", "T_r: w(T) = max(0, 1 - T/T_r)", d.regrowth_temperature)
       .greater_than(0);
-  num("stress_tolerance", "", "STOL: relative local error per plastic sub-step",
-      d.stress_tolerance).greater_than(0);
+  num("stress_tolerance", "", "STOL: relative local error per plastic sub-step", d.stress_tolerance)
+      .greater_than(0);
   num("yield_tolerance", "", "FTOL: |f| accepted as on the locus", d.yield_tolerance)
       .greater_than(0);
   f.integer("fixed_substeps", "> 0: that many equal plastic sub-steps, no error control")
-      .default_value(fmt::format("{}", d.fixed_substeps)).at_least(0);
+      .default_value(fmt::format("{}", d.fixed_substeps))
+      .at_least(0);
   f.integer("max_substeps", "plastic sub-steps per update at most")
-      .default_value(fmt::format("{}", d.max_substeps)).at_least(1);
+      .default_value(fmt::format("{}", d.max_substeps))
+      .at_least(1);
   return f;
 }
 
@@ -183,10 +208,12 @@ MultiRegimeSettings read_multi_regime_settings(const core::Case& c) {
   col.particle_friction = c.number("material.particle_friction");
   s.collisional = c.boolean("collisional.enabled");
   col.jamming_fraction = c.number("collisional.jamming_fraction");
-  col.radial_distribution = model::parse_radial_distribution(c.string("collisional.radial_distribution"));
+  col.radial_distribution =
+      model::parse_radial_distribution(c.string("collisional.radial_distribution"));
   col.effective_restitution =
       model::parse_effective_restitution(c.string("collisional.effective_restitution"));
-  col.correlation_length = model::parse_correlation_length(c.string("collisional.correlation_length"));
+  col.correlation_length =
+      model::parse_correlation_length(c.string("collisional.correlation_length"));
   col.correlation_length_constant = c.number("collisional.correlation_length_constant");
 
   auto& liq = s.liquid_parameters;
@@ -204,8 +231,9 @@ MultiRegimeSettings read_multi_regime_settings(const core::Case& c) {
     if (s.force_chains) s.force_chain_parameters = read_force_chain_parameters(c);
   }
   if (!s.collisional && !s.liquid && !s.force_chains)
-    c.fail("collisional.enabled", "at least one stress term must be switched on "
-                                  "(force_chains.enabled, collisional.enabled or liquid.enabled)");
+    c.fail("collisional.enabled",
+           "at least one stress term must be switched on "
+           "(force_chains.enabled, collisional.enabled or liquid.enabled)");
   return s;
 }
 

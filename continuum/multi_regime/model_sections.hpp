@@ -1,11 +1,12 @@
 // Case-file sections shared by every kind that runs the continuum model (rev, mpm, pair,
 // calibrate): `material` (grain properties; the DEM reads the same keys), `collisional`,
-// `liquid`, `force_chains`. One description of the material, so DEM and continuum cannot drift apart.
+// `liquid`, `force_chains`. One description of the material, so DEM and continuum cannot drift
+// apart.
 #pragma once
 
+#include "continuum/multi_regime/multi_regime_point.hpp"
 #include "core/case.hpp"
 #include "core/schema.hpp"
-#include "continuum/multi_regime/multi_regime_point.hpp"
 
 namespace granflow::continuum {
 
@@ -16,8 +17,8 @@ core::Field liquid_section();
 // ForceChainParameters{} (the loose sand of the seed's section 4).
 core::Field force_chains_section();
 
-// Read the sections (force_chains only if the schema has it) of a validated case into the point settings. Throws CaseError
-// (located at the key) for combinations the schema cannot express.
+// Read the sections (force_chains only if the schema has it) of a validated case into the point
+// settings. Throws CaseError (located at the key) for combinations the schema cannot express.
 MultiRegimeSettings read_multi_regime_settings(const core::Case& c);
 
 }  // namespace granflow::continuum

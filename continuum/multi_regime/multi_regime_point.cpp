@@ -9,8 +9,8 @@ MultiRegimePoint::MultiRegimePoint(MultiRegimeSettings settings) : settings_(std
   if (settings_.force_chains) force_chain_model_.emplace(settings_.force_chain_parameters);
 }
 
-PointState MultiRegimePoint::initial_state(double void_ratio, double effective_pressure,
-                                           double ocr, double granular_temperature) const {
+PointState MultiRegimePoint::initial_state(double void_ratio, double effective_pressure, double ocr,
+                                           double granular_temperature) const {
   PointState state;
   state.solid_fraction = 1.0 / (1.0 + void_ratio);
   state.granular_temperature = granular_temperature;
@@ -65,8 +65,8 @@ StressParts MultiRegimePoint::evaluate(const PointState& state,
     parts.collisional_dissipation =
         model::collisional_dissipation(p, c, T, parts.correlation_length);
     // σ_COL = p_COL I + 2 η_COL ε̇' (compression-positive; Berzi et al. 2011, no bulk viscosity)
-    parts.collisional = parts.collisional_pressure * identity +
-                        2.0 * parts.collisional_viscosity * deviator;
+    parts.collisional =
+        parts.collisional_pressure * identity + 2.0 * parts.collisional_viscosity * deviator;
     parts.collisional_power = parts.collisional_pressure * strain_rate.trace() +
                               2.0 * parts.collisional_viscosity * deviator_norm2;
     // Riccati coefficients of ds/dt (granular_temperature_update.hpp), divided through by
@@ -77,8 +77,7 @@ StressParts MultiRegimePoint::evaluate(const PointState& state,
     k.c = -c.f1 * strain_rate.trace() / (3.0 * nu);  // compaction (tr ε̇ > 0) heats
     if (settings_.fluctuation_dissipation) {
       const auto& l = settings_.liquid_parameters;
-      parts.liquid_dissipation =
-          model::liquid_fluctuation_dissipation(l, p.diameter, nu, c.g0, T);
+      parts.liquid_dissipation = model::liquid_fluctuation_dissipation(l, p.diameter, nu, c.g0, T);
       // Λ = 54 ν η0 R_diss T / d² -> c += 54 ν η0 R_diss / (3 ν ρ_p d²) ... written via Λ/T
       const double lambda_over_T =
           model::liquid_fluctuation_dissipation(l, p.diameter, nu, c.g0, 1.0);

@@ -12,9 +12,8 @@
 // rate (soil mechanics, model.md §0): tr(ε̇) > 0 is compaction.
 #pragma once
 
-#include <optional>
-
 #include <Eigen/Core>
+#include <optional>
 
 #include "continuum/model/closures.hpp"
 #include "continuum/model/force_chains/force_chain_model.hpp"
@@ -45,14 +44,14 @@ struct StressParts {
   Eigen::Matrix3d force_chain = Eigen::Matrix3d::Zero();  // σ_FC = σ' (effective stress)
   Eigen::Matrix3d collisional = Eigen::Matrix3d::Zero();
   Eigen::Matrix3d liquid = Eigen::Matrix3d::Zero();
-  double collisional_pressure = 0;      // p_COL, Pa
-  double collisional_viscosity = 0;     // ρ_p d f2 T^½, Pa s
-  double mixture_viscosity = 0;         // η(ν), Pa s
-  double correlation_length = 0;        // L, m
-  double collisional_dissipation = 0;   // Γ, W/m³
-  double liquid_dissipation = 0;        // Λ, W/m³
-  double collisional_power = 0;         // σ_COL : ε̇, W/m³
-  RiccatiCoefficients temperature_equation;  // coefficients of ds/dt, s = T^½
+  double collisional_pressure = 0;                     // p_COL, Pa
+  double collisional_viscosity = 0;                    // ρ_p d f2 T^½, Pa s
+  double mixture_viscosity = 0;                        // η(ν), Pa s
+  double correlation_length = 0;                       // L, m
+  double collisional_dissipation = 0;                  // Γ, W/m³
+  double liquid_dissipation = 0;                       // Λ, W/m³
+  double collisional_power = 0;                        // σ_COL : ε̇, W/m³
+  RiccatiCoefficients temperature_equation;            // coefficients of ds/dt, s = T^½
   model::force_chains::UpdateInfo force_chain_update;  // of the last advance() (diagnostics)
 
   // σ_FC + σ_COL + σ_L without the pore pressure u_w (the driver adds u_w I).

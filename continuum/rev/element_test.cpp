@@ -1,9 +1,9 @@
 #include "continuum/rev/element_test.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <fmt/format.h>
 
 #include "core/run.hpp"
 
@@ -20,7 +20,8 @@ using continuum::StressParts;
 double solid_fraction_limit(const MultiRegimePoint& point) {
   const auto& s = point.settings();
   double limit = 1.0;
-  if (s.collisional) limit = std::min(limit, model::maximum_solid_fraction(s.collisional_parameters));
+  if (s.collisional)
+    limit = std::min(limit, model::maximum_solid_fraction(s.collisional_parameters));
   if (s.liquid) limit = std::min(limit, model::maximum_mixture_solid_fraction(s.liquid_parameters));
   return limit * (1.0 - 1e-9);
 }
@@ -139,8 +140,12 @@ void run_triaxial(const MultiRegimePoint& point, const TriaxialControl& control,
         rate(1, 1) = rate(2, 2) = (-0.5 * d_eps_d + x / 3.0) / dt;
         out.parts = point.advance(out.state, rate, dt);
         switch (stage.drainage) {
-          case Drainage::drained: out.pore_pressure = u_b; break;
-          case Drainage::undrained: out.pore_pressure = u_w + K_w / porosity * x; break;
+          case Drainage::drained:
+            out.pore_pressure = u_b;
+            break;
+          case Drainage::undrained:
+            out.pore_pressure = u_w + K_w / porosity * x;
+            break;
           case Drainage::consolidating: {
             const double m = K_w / porosity;
             out.pore_pressure =
@@ -163,11 +168,11 @@ void run_triaxial(const MultiRegimePoint& point, const TriaxialControl& control,
       if (std::abs(a.residual) > tolerance) {
         const double p_eff = std::max(state.force_chains.stress.trace() / 3.0,
                                       settings.force_chain_parameters.pressure_floor);
-        double stiffness =
-            (stage.drainage == Drainage::drained ? 0.0 : K_w / porosity) +
-            (point.force_chain_model() ? 3.0 * point.force_chain_model()->elasticity().bulk_modulus(p_eff)
-                                       : 0.0) +
-            1e3;
+        double stiffness = (stage.drainage == Drainage::drained ? 0.0 : K_w / porosity) +
+                           (point.force_chain_model()
+                                ? 3.0 * point.force_chain_model()->elasticity().bulk_modulus(p_eff)
+                                : 0.0) +
+                           1e3;
         double h = std::abs(a.residual) / stiffness;
         const double direction = a.residual < 0 ? 1.0 : -1.0;
         double xb = xa;
@@ -262,9 +267,9 @@ ElementResult run_isotropic_compression(const MultiRegimePoint& point,
                                          control.overconsolidation, 0.0);
   StressParts parts = point.evaluate(state, Eigen::Matrix3d::Zero());
   parts.force_chain = state.force_chains.stress;
-  const double dt = control.final_volumetric_strain / control.volumetric_strain_rate / control.steps;
-  const Eigen::Matrix3d rate =
-      control.volumetric_strain_rate / 3.0 * Eigen::Matrix3d::Identity();
+  const double dt =
+      control.final_volumetric_strain / control.volumetric_strain_rate / control.steps;
+  const Eigen::Matrix3d rate = control.volumetric_strain_rate / 3.0 * Eigen::Matrix3d::Identity();
   double time = 0, eps_v = 0;
   record(result.series, 0, 0, 0, 0, state, parts, control.pore_pressure, 0, 0);
   for (int step = 1; step <= control.steps; ++step) {

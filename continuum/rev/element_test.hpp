@@ -37,13 +37,13 @@ struct TriaxialStage {
 };
 
 struct TriaxialControl {
-  double void_ratio = 0.70;              // e0
-  double effective_pressure = 50e3;      // p'0 (isotropic σ_FC), Pa
-  double overconsolidation = 1.0;        // r_c0 / (√3 p'0) >= 1
-  double pore_pressure = 50e3;           // u_w0 = back pressure u_b, Pa
-  double initial_temperature = 0.0;      // T0, m²/s²
-  std::vector<TriaxialStage> stages;     // run one after the other
-  double stress_tolerance = 1e-9;        // |σ_r - σ_cell| ≤ tol · σ_cell
+  double void_ratio = 0.70;           // e0
+  double effective_pressure = 50e3;   // p'0 (isotropic σ_FC), Pa
+  double overconsolidation = 1.0;     // r_c0 / (√3 p'0) >= 1
+  double pore_pressure = 50e3;        // u_w0 = back pressure u_b, Pa
+  double initial_temperature = 0.0;   // T0, m²/s²
+  std::vector<TriaxialStage> stages;  // run one after the other
+  double stress_tolerance = 1e-9;     // |σ_r - σ_cell| ≤ tol · σ_cell
 };
 
 struct ElementSeries {
@@ -55,9 +55,9 @@ struct ElementSeries {
 struct ElementResult {
   ElementSeries series;
   long steps = 0;
-  long solver_evaluations = 0;   // point updates spent on the radial-stress condition
-  double max_radial_residual = 0;  // largest |σ_r - σ_cell| accepted, Pa
-  double liquefaction_strain = -1;  // ε_d where σ_FC first vanished (-1: never)
+  long solver_evaluations = 0;        // point updates spent on the radial-stress condition
+  double max_radial_residual = 0;     // largest |σ_r - σ_cell| accepted, Pa
+  double liquefaction_strain = -1;    // ε_d where σ_FC first vanished (-1: never)
   double resolidification_time = -1;  // time where a fluidized skeleton became solid again
 };
 
@@ -72,7 +72,7 @@ ElementResult run_triaxial(const continuum::MultiRegimePoint& point,
 
 struct IsotropicControl {
   double void_ratio = 0.8;
-  double effective_pressure = 10e3;       // p'0, Pa
+  double effective_pressure = 10e3;  // p'0, Pa
   double overconsolidation = 1.0;
   double pore_pressure = 0.0;             // u_w (drained), Pa
   double volumetric_strain_rate = 1e-3;   // ε̇_v, 1/s (> 0 compaction)

@@ -1,8 +1,8 @@
 #include "continuum/rev/rev_kind.hpp"
 
-#include <cmath>
-
 #include <fmt/format.h>
+
+#include <cmath>
 
 #include "continuum/multi_regime/model_sections.hpp"
 #include "continuum/rev/simple_shear.hpp"
@@ -20,31 +20,50 @@ core::Schema simple_shear_schema() {
   s.add(continuum::collisional_section());
   s.add(continuum::liquid_section());
   auto& loading = s.section("loading", "imposed shear and volume/normal-stress control");
-  loading.choice("control", {"constant_volume", "constant_pressure"},
-                 "constant_volume: e imposed; constant_pressure: p on the grains imposed, e evolves")
+  loading
+      .choice("control", {"constant_volume", "constant_pressure"},
+              "constant_volume: e imposed; constant_pressure: p on the grains imposed, e evolves")
       .required();
-  loading.number("shear_rate", "1/s", "imposed shear rate γ̇").required().greater_than(0).sweepable();
+  loading.number("shear_rate", "1/s", "imposed shear rate γ̇")
+      .required()
+      .greater_than(0)
+      .sweepable();
   loading.number("void_ratio", "", "imposed void ratio e (constant_volume) or initial e")
-      .greater_than(0).sweepable();
+      .greater_than(0)
+      .sweepable();
   loading.number("normal_stress", "Pa", "imposed normal stress p on the grains (constant_pressure)")
-      .greater_than(0).sweepable();
+      .greater_than(0)
+      .sweepable();
   auto& initial = s.section("initial", "initial state");
-  initial.number("granular_temperature", "m^2/s^2", "T at t = 0").default_value("1.0e-6").at_least(0);
+  initial.number("granular_temperature", "m^2/s^2", "T at t = 0")
+      .default_value("1.0e-6")
+      .at_least(0);
   initial.number("effective_pressure", "Pa", "isotropic σ_FC = p'0 I at t = 0 (force chains on)")
-      .default_value("50.0e3").greater_than(0).sweepable();
-  initial.number("overconsolidation", "", "r_c0 / (√3 p'0) (force chains on)").default_value("1")
+      .default_value("50.0e3")
+      .greater_than(0)
+      .sweepable();
+  initial.number("overconsolidation", "", "r_c0 / (√3 p'0) (force chains on)")
+      .default_value("1")
       .at_least(1);
   auto& integration = s.section("integration", "accuracy controls of the time integration");
   integration.number("time_step_factor", "", "Δt = factor × min(1/γ̇, relaxation time of T)")
-      .default_value("0.5").greater_than(0);
-  integration.number("steady_tolerance", "", "steady when T and ν change less than this per unit strain")
-      .default_value("1.0e-10").greater_than(0);
-  integration.number("max_strain", "", "give up (not steady) beyond this shear strain")
-      .default_value("1.0e4").greater_than(0);
-  integration.integer("max_steps", "give up beyond this number of steps").default_value("1000000")
+      .default_value("0.5")
       .greater_than(0);
-  integration.number("strain_increment", "", "largest shear strain increment per step with force chains")
-      .default_value("1.0e-3").greater_than(0).at_most(0.05);
+  integration
+      .number("steady_tolerance", "", "steady when T and ν change less than this per unit strain")
+      .default_value("1.0e-10")
+      .greater_than(0);
+  integration.number("max_strain", "", "give up (not steady) beyond this shear strain")
+      .default_value("1.0e4")
+      .greater_than(0);
+  integration.integer("max_steps", "give up beyond this number of steps")
+      .default_value("1000000")
+      .greater_than(0);
+  integration
+      .number("strain_increment", "", "largest shear strain increment per step with force chains")
+      .default_value("1.0e-3")
+      .greater_than(0)
+      .at_most(0.05);
   return s;
 }
 
@@ -54,44 +73,51 @@ void check_simple_shear(const core::Case& c) {
   const auto settings = continuum::read_multi_regime_settings(c);
   const std::string control = c.string("loading.control");
   if (settings.force_chains && control != "constant_volume")
-    c.fail("loading.control", "with force_chains.enabled the simple shear runs at constant_volume "
-                              "(use kind: rev, test: triaxial for an imposed total stress)");
+    c.fail("loading.control",
+           "with force_chains.enabled the simple shear runs at constant_volume "
+           "(use kind: rev, test: triaxial for an imposed total stress)");
   if (control == "constant_volume") {
     if (!c.has("loading.void_ratio"))
-      c.fail("loading.void_ratio", "missing required key for constant_volume; expected a void ratio > 0");
+      c.fail("loading.void_ratio",
+             "missing required key for constant_volume; expected a void ratio > 0");
     const double nu = 1.0 / (1.0 + c.number("loading.void_ratio"));
     if (settings.collisional &&
         nu >= model::maximum_solid_fraction(settings.collisional_parameters))
       c.fail("loading.void_ratio",
-             fmt::format("solid fraction 1/(1+e) = {:.6g} is at or beyond the jamming fraction {:.6g}; "
-                         "expected e > {:.6g}",
-                         nu, model::maximum_solid_fraction(settings.collisional_parameters),
-                         1.0 / model::maximum_solid_fraction(settings.collisional_parameters) - 1.0));
+             fmt::format(
+                 "solid fraction 1/(1+e) = {:.6g} is at or beyond the jamming fraction {:.6g}; "
+                 "expected e > {:.6g}",
+                 nu, model::maximum_solid_fraction(settings.collisional_parameters),
+                 1.0 / model::maximum_solid_fraction(settings.collisional_parameters) - 1.0));
     if (settings.liquid && nu >= settings.liquid_parameters.maximum_packing &&
         settings.liquid_parameters.mixture_viscosity != model::MixtureViscosityKind::einstein)
-      c.fail("loading.void_ratio",
-             fmt::format("solid fraction {:.6g} is at or beyond liquid.maximum_packing {:.6g} where "
-                         "η(ν) diverges", nu, settings.liquid_parameters.maximum_packing));
+      c.fail(
+          "loading.void_ratio",
+          fmt::format("solid fraction {:.6g} is at or beyond liquid.maximum_packing {:.6g} where "
+                      "η(ν) diverges",
+                      nu, settings.liquid_parameters.maximum_packing));
   } else {
     if (!c.has("loading.normal_stress"))
-      c.fail("loading.normal_stress", "missing required key for constant_pressure; expected p > 0 [Pa]");
+      c.fail("loading.normal_stress",
+             "missing required key for constant_pressure; expected p > 0 [Pa]");
     if (!settings.collisional)
       c.fail("collisional.enabled", "constant_pressure needs the collisional term (it carries p)");
     // Dry kinetic theory has a dense steady state only below I_max (with liquid, Λ lowers T and
     // the bound moves, so it is then detected at run time instead).
-    if (!settings.liquid &&
-        settings.collisional_parameters.correlation_length == model::CorrelationLengthKind::diameter) {
+    if (!settings.liquid && settings.collisional_parameters.correlation_length ==
+                                model::CorrelationLengthKind::diameter) {
       const auto bound = maximum_steady_inertial_number(settings.collisional_parameters);
       const double I = c.number("loading.shear_rate") * settings.collisional_parameters.diameter /
                        std::sqrt(c.number("loading.normal_stress") /
                                  settings.collisional_parameters.particle_density);
       if (I >= bound.inertial_number)
-        c.fail("loading.shear_rate",
-               fmt::format("inertial number I = γ̇ d / sqrt(p/ρ_p) = {:.4g} has no steady dense state "
-                           "in kinetic theory with L = d; expected I < I_max = {:.4g} (reached at "
-                           "ν = {:.4g}), i.e. γ̇ < {:.4g} 1/s",
-                           I, bound.inertial_number, bound.solid_fraction,
-                           c.number("loading.shear_rate") * bound.inertial_number / I));
+        c.fail(
+            "loading.shear_rate",
+            fmt::format("inertial number I = γ̇ d / sqrt(p/ρ_p) = {:.4g} has no steady dense state "
+                        "in kinetic theory with L = d; expected I < I_max = {:.4g} (reached at "
+                        "ν = {:.4g}), i.e. γ̇ < {:.4g} 1/s",
+                        I, bound.inertial_number, bound.solid_fraction,
+                        c.number("loading.shear_rate") * bound.inertial_number / I));
     }
     // Under constant p the grains may compact up to the jamming fraction: η(ν) must stay finite.
     if (settings.liquid &&
@@ -109,8 +135,9 @@ void check_simple_shear(const core::Case& c) {
 
 SimpleShearControl read_control(const core::Case& c) {
   SimpleShearControl control;
-  control.control = c.string("loading.control") == "constant_volume" ? ShearControl::constant_volume
-                                                                      : ShearControl::constant_pressure;
+  control.control = c.string("loading.control") == "constant_volume"
+                        ? ShearControl::constant_volume
+                        : ShearControl::constant_pressure;
   control.shear_rate = c.number("loading.shear_rate");
   if (c.has("loading.void_ratio")) control.void_ratio = c.number("loading.void_ratio");
   if (c.has("loading.normal_stress")) control.normal_stress = c.number("loading.normal_stress");
@@ -129,7 +156,8 @@ void write_series(core::ResultFile& out, const std::string& group, const SimpleS
   out.write(group + "/time", s.time, "s", "time");
   out.write(group + "/strain", s.strain, "1", "shear strain γ");
   out.write(group + "/time_step", s.time_step, "s", "time step Δt");
-  out.write(group + "/granular_temperature", s.granular_temperature, "m^2/s^2", "granular temperature T");
+  out.write(group + "/granular_temperature", s.granular_temperature, "m^2/s^2",
+            "granular temperature T");
   out.write(group + "/void_ratio", s.void_ratio, "1", "void ratio e");
   out.write(group + "/solid_fraction", s.solid_fraction, "1", "solid fraction ν");
   out.write(group + "/pressure", s.pressure, "Pa", "normal stress on the grains p (p_COL)");
@@ -146,7 +174,9 @@ void write_series(core::ResultFile& out, const std::string& group, const SimpleS
 int run_simple_shear_case(core::RunContext& ctx) {
   const auto conditions = ctx.run_case.expand_sweep();
   const bool sweep = ctx.run_case.is_sweep();
-  struct Row { double shear_rate, e, phi, T, p, tau, tau_col, tau_liq, mu, I, J, K, strain, reached, steps; };
+  struct Row {
+    double shear_rate, e, phi, T, p, tau, tau_col, tau_liq, mu, I, J, K, strain, reached, steps;
+  };
   std::vector<Row> rows;
   long total_steps = 0;
   double min_dt = INFINITY, max_dt = 0, max_explicit_ratio = 0;
@@ -183,11 +213,12 @@ int run_simple_shear_case(core::RunContext& ctx) {
                     s.pressure, s.shear_stress, s.collisional_shear_stress, s.liquid_shear_stress,
                     s.friction, s.inertial_number, s.viscous_number, K, s.strain,
                     s.reached ? 1.0 : 0.0, static_cast<double>(r.steps)});
-    ctx.log->info("{}: steady after strain {:.4g} ({} steps): e = {:.6g}, T = {:.6g} m²/s², "
-                  "p = {:.6g} Pa, τ = {:.6g} Pa, μ = {:.6g}, I = {:.6g}{}",
-                  label, s.strain, r.steps, s.void_ratio, s.granular_temperature, s.pressure,
-                  s.shear_stress, s.friction, s.inertial_number,
-                  settings.liquid ? fmt::format(", J = {:.6g}", s.viscous_number) : "");
+    ctx.log->info(
+        "{}: steady after strain {:.4g} ({} steps): e = {:.6g}, T = {:.6g} m²/s², "
+        "p = {:.6g} Pa, τ = {:.6g} Pa, μ = {:.6g}, I = {:.6g}{}",
+        label, s.strain, r.steps, s.void_ratio, s.granular_temperature, s.pressure, s.shear_stress,
+        s.friction, s.inertial_number,
+        settings.liquid ? fmt::format(", J = {:.6g}", s.viscous_number) : "");
     const std::string suffix = sweep ? fmt::format(".{}", n) : "";
     auto& sum = ctx.summary;
     sum.set("steady.mu" + suffix, s.friction);
@@ -210,10 +241,12 @@ int run_simple_shear_case(core::RunContext& ctx) {
     }
     // The closed form of model.md §3 (no liquid, L = d): T = (f2/f3) d² γ̇², μ = sqrt(f2 f3)/f1.
     if (settings.collisional && !settings.liquid && !settings.force_chains &&
-        settings.collisional_parameters.correlation_length == model::CorrelationLengthKind::diameter) {
+        settings.collisional_parameters.correlation_length ==
+            model::CorrelationLengthKind::diameter) {
       const auto& p = settings.collisional_parameters;
       const auto k = model::collisional_coefficients(p, s.solid_fraction);
-      const double T_closed = k.f2 / k.f3 * p.diameter * p.diameter * control.shear_rate * control.shear_rate;
+      const double T_closed =
+          k.f2 / k.f3 * p.diameter * p.diameter * control.shear_rate * control.shear_rate;
       sum.set("closed_form.T" + suffix, T_closed);
       sum.set("closed_form.mu" + suffix, std::sqrt(k.f2 * k.f3) / k.f1);
       sum.set("closed_form.I" + suffix, 1.0 / std::sqrt(k.f1 * k.f2 / k.f3));
@@ -262,12 +295,13 @@ int run_simple_shear_case(core::RunContext& ctx) {
   ctx.summary.set("accuracy.steady_tolerance", c0.number("integration.steady_tolerance"));
   ctx.summary.set("accuracy.max_dt_over_explicit_limit", max_explicit_ratio);
   if (sweep) ctx.summary.set("sweep.count", static_cast<double>(conditions.size()));
-  ctx.log->info("cost: {} steps in {:.3f} s ({:.3g} point updates/s); accuracy: Δt in [{:.3g}, {:.3g}] s "
-                "(factor {:g}, up to {:.3g}× the explicit Euler limit of the T equation), steady "
-                "tolerance {:g} per unit strain",
-                total_steps, wall, total_steps / std::max(wall, 1e-9), min_dt, max_dt,
-                c0.number("integration.time_step_factor"), max_explicit_ratio,
-                c0.number("integration.steady_tolerance"));
+  ctx.log->info(
+      "cost: {} steps in {:.3f} s ({:.3g} point updates/s); accuracy: Δt in [{:.3g}, {:.3g}] s "
+      "(factor {:g}, up to {:.3g}× the explicit Euler limit of the T equation), steady "
+      "tolerance {:g} per unit strain",
+      total_steps, wall, total_steps / std::max(wall, 1e-9), min_dt, max_dt,
+      c0.number("integration.time_step_factor"), max_explicit_ratio,
+      c0.number("integration.steady_tolerance"));
   ctx.plot("plot_rev.py");
   return core::exit_ok;
 }

@@ -1,10 +1,10 @@
 #include "continuum/rev/simple_shear.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 #include "core/run.hpp"
 
@@ -27,7 +27,8 @@ double compaction_capacity(const continuum::MultiRegimePoint& point, double nu) 
   const double nu_hi = std::min(nu + h, model::maximum_solid_fraction(p) - 1e-13);
   const double f1 = model::collisional_coefficients(p, nu).f1;
   const double slope = (model::collisional_coefficients(p, nu_hi).f1 -
-                        model::collisional_coefficients(p, nu - h).f1) / (nu_hi - nu + h);
+                        model::collisional_coefficients(p, nu - h).f1) /
+                       (nu_hi - nu + h);
   return f1 * f1 / (1.5 * nu * nu * slope);
 }
 
@@ -38,7 +39,8 @@ double solid_fraction_at_pressure(const continuum::MultiRegimePoint& point, doub
   const auto& p = point.settings().collisional_parameters;
   double lo = 1e-9, hi = model::maximum_solid_fraction(p) - 1e-13;
   const auto p_col = [&](double nu) {
-    return model::collisional_pressure(p, model::collisional_coefficients(p, nu), granular_temperature);
+    return model::collisional_pressure(p, model::collisional_coefficients(p, nu),
+                                       granular_temperature);
   };
   // No root in the bracket: the point cannot carry p (too cold even at jamming, or too hot
   // even when dilute). The caller reports it.
@@ -81,9 +83,9 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
   const Eigen::Matrix3d shear = simple_shear_rate(gamma_dot);
 
   const bool force_chains = settings.force_chains;
-  continuum::PointState state = point.initial_state(control.void_ratio, control.effective_pressure,
-                                                    control.overconsolidation,
-                                                    control.initial_temperature);
+  continuum::PointState state =
+      point.initial_state(control.void_ratio, control.effective_pressure, control.overconsolidation,
+                          control.initial_temperature);
   const bool constant_pressure = control.control == ShearControl::constant_pressure;
   if (constant_pressure && force_chains)
     throw std::invalid_argument(
@@ -141,7 +143,8 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
             step, "REV point", "solid_fraction", state.solid_fraction,
             fmt::format("no solid fraction in (0, ν_c) gives p_COL = {:g} Pa at T = {:g} m²/s²: "
                         "the collisional term alone cannot carry this normal stress at this "
-                        "shear rate", control.normal_stress, state.granular_temperature));
+                        "shear rate",
+                        control.normal_stress, state.granular_temperature));
       parts = point.evaluate(state, rate);
     }
     time += dt;
@@ -177,13 +180,14 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
 
     // Steady: relative change of T and ν per unit strain below the tolerance for 5 steps.
     const double dstrain = gamma_dot * dt;
-    double change = std::max(std::abs(T - T_old) / std::max(T, 1e-300),
-                             std::abs(nu - nu_old) / nu) / dstrain;
+    double change =
+        std::max(std::abs(T - T_old) / std::max(T, 1e-300), std::abs(nu - nu_old) / nu) / dstrain;
     if (force_chains)  // the skeleton's stress must be stationary too (relative to |σ_FC| + 1 Pa)
       change = std::max(change, (state.force_chains.stress - fc_old).norm() /
                                     (state.force_chains.stress.norm() + 1.0) / dstrain);
-    quiet_steps =
-        ((!settings.collisional && !force_chains) || change < control.steady_tolerance) ? quiet_steps + 1 : 0;
+    quiet_steps = ((!settings.collisional && !force_chains) || change < control.steady_tolerance)
+                      ? quiet_steps + 1
+                      : 0;
     if (progress && step % 1000 == 0) progress(strain);
     if (quiet_steps >= 5 || strain >= control.max_strain) {
       auto& s = result.steady;
@@ -201,9 +205,8 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
       s.yield_size = state.force_chains.r_c;
       s.friction = series.friction.back();
       s.inertial_number = series.inertial_number.back();
-      s.viscous_number = settings.liquid && p > 0
-                             ? settings.liquid_parameters.viscosity * gamma_dot / p
-                             : 0.0;
+      s.viscous_number =
+          settings.liquid && p > 0 ? settings.liquid_parameters.viscosity * gamma_dot / p : 0.0;
       break;
     }
   }

@@ -15,35 +15,35 @@ enum class ShearControl { constant_volume, constant_pressure };
 
 struct SimpleShearControl {
   ShearControl control = ShearControl::constant_volume;
-  double shear_rate = 10.0;                // γ̇, 1/s
-  double void_ratio = 0.8;                 // imposed (constant volume) or initial e
-  double normal_stress = 0.0;              // imposed p on the grains (constant pressure), Pa
-  double initial_temperature = 1e-6;       // T(0), m²/s²
-  double time_step_factor = 0.5;           // Δt = factor × min(1/γ̇, T relaxation time)
-  double steady_tolerance = 1e-10;         // relative change per unit strain of T and ν
-  double max_strain = 1e4;                 // stop (not steady) beyond this strain
+  double shear_rate = 10.0;           // γ̇, 1/s
+  double void_ratio = 0.8;            // imposed (constant volume) or initial e
+  double normal_stress = 0.0;         // imposed p on the grains (constant pressure), Pa
+  double initial_temperature = 1e-6;  // T(0), m²/s²
+  double time_step_factor = 0.5;      // Δt = factor × min(1/γ̇, T relaxation time)
+  double steady_tolerance = 1e-10;    // relative change per unit strain of T and ν
+  double max_strain = 1e4;            // stop (not steady) beyond this strain
   long max_steps = 1000000;
   // With force chains (constant volume only): the skeleton starts isotropic at p'0 with
   // r_c = √3 p'0 ocr, and each step's shear strain increment is at most `strain_increment`.
   double effective_pressure = 50e3;  // p'0, Pa
   double overconsolidation = 1.0;
-  double strain_increment = 1e-3;    // largest Δγ per step with force chains
+  double strain_increment = 1e-3;  // largest Δγ per step with force chains
 };
 
 struct SimpleShearSeries {
   std::vector<double> time, strain, time_step, granular_temperature, void_ratio, solid_fraction,
-      pressure, shear_stress, collisional_shear_stress, liquid_shear_stress, friction, inertial_number,
-      force_chain_shear_stress, effective_pressure, yield_size;
+      pressure, shear_stress, collisional_shear_stress, liquid_shear_stress, friction,
+      inertial_number, force_chain_shear_stress, effective_pressure, yield_size;
 };
 
 struct SimpleShearSteady {
   bool reached = false;
-  double strain = 0;       // strain at which steady state was detected
+  double strain = 0;  // strain at which steady state was detected
   double void_ratio = 0, solid_fraction = 0, granular_temperature = 0;
-  double pressure = 0;     // granular normal stress p (p_COL + p'), Pa
-  double effective_pressure = 0, force_chain_shear_stress = 0, yield_size = 0;  // σ_FC part
+  double pressure = 0;  // granular normal stress p (p_COL + p'), Pa
+  double effective_pressure = 0, force_chain_shear_stress = 0, yield_size = 0;     // σ_FC part
   double shear_stress = 0, collisional_shear_stress = 0, liquid_shear_stress = 0;  // Pa
-  double friction = 0;     // μ = τ/p
+  double friction = 0;                                                             // μ = τ/p
   double inertial_number = 0;  // I = γ̇ d / sqrt(p/ρ_p)
   double viscous_number = 0;   // J = η0 γ̇ / p (liquid on)
 };
@@ -60,8 +60,7 @@ struct SimpleShearResult {
 // (may be empty). Throws core::NumericalFailure naming step and variable on NaN/Inf/negative T
 // or when no state satisfies the imposed pressure; `result` then holds the series so far.
 void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShearControl& control,
-                      SimpleShearResult& result,
-                      const std::function<void(double)>& progress = {});
+                      SimpleShearResult& result, const std::function<void(double)>& progress = {});
 SimpleShearResult run_simple_shear(const continuum::MultiRegimePoint& point,
                                    const SimpleShearControl& control);
 

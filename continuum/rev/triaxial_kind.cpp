@@ -1,9 +1,9 @@
 // `kind: rev` element tests with all terms: `test: triaxial` (drained / undrained triaxial
 // compression at imposed ε̇_d, optional reconsolidation stage) and `test: isotropic_compression`.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <fmt/format.h>
 
 #include "continuum/multi_regime/model_sections.hpp"
 #include "continuum/rev/element_test.hpp"
@@ -24,11 +24,15 @@ void add_initial_section(core::Schema& s) {
   auto& initial = s.section("initial", "isotropic initial state (compression positive)");
   initial.number("void_ratio", "", "initial void ratio e0").required().greater_than(0).sweepable();
   initial.number("effective_pressure", "Pa", "initial effective pressure p'0 (σ_FC = p'0 I)")
-      .required().greater_than(0).sweepable();
+      .required()
+      .greater_than(0)
+      .sweepable();
   initial.number("overconsolidation", "", "r_c0 / (√3 p'0): 1 = normally consolidated")
-      .default_value("1").at_least(1);
+      .default_value("1")
+      .at_least(1);
   initial.number("pore_pressure", "Pa", "initial pore pressure u_w0 (= back pressure)")
-      .default_value("0").sweepable();
+      .default_value("0")
+      .sweepable();
   initial.number("granular_temperature", "m^2/s^2", "T at t = 0").default_value("0").at_least(0);
 }
 
@@ -44,31 +48,45 @@ core::Schema triaxial_schema() {
   add_model_sections(s);
   add_initial_section(s);
   auto& loading = s.section("loading", "shearing stage");
-  loading.choice("drainage", {"drained", "undrained"},
-                 "drained: u_w = u_w0; undrained: Δu_w = (K_w/n) Δε_v (mixture volume changes only "
-                 "by the liquid's compression)").required();
+  loading
+      .choice("drainage", {"drained", "undrained"},
+              "drained: u_w = u_w0; undrained: Δu_w = (K_w/n) Δε_v (mixture volume changes only "
+              "by the liquid's compression)")
+      .required();
   loading.number("deviatoric_strain_rate", "1/s", "imposed ε̇_d = (2/3)(ε̇_a - ε̇_r)")
-      .required().greater_than(0).sweepable();
+      .required()
+      .greater_than(0)
+      .sweepable();
   loading.number("final_deviatoric_strain", "", "stop the shearing stage at this ε_d")
-      .required().greater_than(0).at_most(2);
+      .required()
+      .greater_than(0)
+      .at_most(2);
   loading.integer("steps", "equal steps of the shearing stage (Δε_d = final/steps)")
-      .default_value("2000").at_least(10);
+      .default_value("2000")
+      .at_least(10);
   auto& recon = s.section("reconsolidation",
                           "optional second stage: the shear rate drops and the sample drains "
                           "towards u_w0 through a drainage length (lumped Darcy outflow)");
   recon.boolean("enabled", "run the reconsolidation stage").default_value("false");
-  recon.number("deviatoric_strain_rate", "1/s", "ε̇_d during the stage").default_value("0")
+  recon.number("deviatoric_strain_rate", "1/s", "ε̇_d during the stage")
+      .default_value("0")
       .at_least(0);
   recon.number("duration", "s", "length of the stage").default_value("1").greater_than(0);
   recon.integer("steps", "time steps of the stage").default_value("2000").at_least(10);
-  recon.number("first_time_step", "s",
-               "first time step; the steps grow geometrically to fill the duration (0: equal "
-               "steps)").default_value("1.0e-6").at_least(0);
+  recon
+      .number("first_time_step", "s",
+              "first time step; the steps grow geometrically to fill the duration (0: equal "
+              "steps)")
+      .default_value("1.0e-6")
+      .at_least(0);
   recon.number("drainage_length", "m", "drainage length H: outflow κ/(η0 H²) (u_w - u_w0)")
-      .default_value("0.05").greater_than(0);
+      .default_value("0.05")
+      .greater_than(0);
   auto& integration = s.section("integration", "accuracy controls");
   integration.number("stress_tolerance", "", "|σ_r - σ_cell| accepted, relative to σ_cell")
-      .default_value("1.0e-9").greater_than(0).less_than(1e-2);
+      .default_value("1.0e-9")
+      .greater_than(0)
+      .less_than(1e-2);
   return s;
 }
 
@@ -80,8 +98,12 @@ core::Schema isotropic_compression_schema() {
   add_model_sections(s);
   add_initial_section(s);
   auto& loading = s.section("loading", "imposed volumetric strain");
-  loading.number("volumetric_strain_rate", "1/s", "ε̇_v (> 0 compaction)").required().greater_than(0);
-  loading.number("final_volumetric_strain", "", "stop at this ε_v").required().greater_than(0)
+  loading.number("volumetric_strain_rate", "1/s", "ε̇_v (> 0 compaction)")
+      .required()
+      .greater_than(0);
+  loading.number("final_volumetric_strain", "", "stop at this ε_v")
+      .required()
+      .greater_than(0)
       .less_than(0.5);
   loading.integer("steps", "equal steps").default_value("200").at_least(1);
   return s;
@@ -92,20 +114,23 @@ namespace {
 void check_common(const core::Case& c) {
   const auto settings = continuum::read_multi_regime_settings(c);
   const double nu = 1.0 / (1.0 + c.number("initial.void_ratio"));
-  if (settings.collisional &&
-      nu >= model::maximum_solid_fraction(settings.collisional_parameters))
-    c.fail("initial.void_ratio",
-           fmt::format("solid fraction 1/(1+e0) = {:.6g} is at or beyond collisional."
-                       "jamming_fraction {:.6g} where g0 diverges; expected e0 > {:.6g} or a larger "
-                       "jamming fraction", nu, settings.collisional_parameters.jamming_fraction,
-                       1.0 / settings.collisional_parameters.jamming_fraction - 1.0));
+  if (settings.collisional && nu >= model::maximum_solid_fraction(settings.collisional_parameters))
+    c.fail(
+        "initial.void_ratio",
+        fmt::format("solid fraction 1/(1+e0) = {:.6g} is at or beyond collisional."
+                    "jamming_fraction {:.6g} where g0 diverges; expected e0 > {:.6g} or a larger "
+                    "jamming fraction",
+                    nu, settings.collisional_parameters.jamming_fraction,
+                    1.0 / settings.collisional_parameters.jamming_fraction - 1.0));
   if (settings.liquid && nu >= model::maximum_mixture_solid_fraction(settings.liquid_parameters))
     c.fail("initial.void_ratio",
            fmt::format("solid fraction {:.6g} is at or beyond liquid.maximum_packing {:.6g} where "
-                       "η(ν) diverges", nu, settings.liquid_parameters.maximum_packing));
+                       "η(ν) diverges",
+                       nu, settings.liquid_parameters.maximum_packing));
   if (!settings.force_chains)
-    c.fail("force_chains.enabled", "element tests start from a skeleton carrying p'0: expected "
-                                   "force_chains.enabled: true");
+    c.fail("force_chains.enabled",
+           "element tests start from a skeleton carrying p'0: expected "
+           "force_chains.enabled: true");
 }
 
 void check_triaxial(const core::Case& c) {
@@ -128,7 +153,8 @@ TriaxialControl read_triaxial_control(const core::Case& c) {
   t.initial_temperature = c.number("initial.granular_temperature");
   t.stress_tolerance = c.number("integration.stress_tolerance");
   TriaxialStage shear;
-  shear.drainage = c.string("loading.drainage") == "drained" ? Drainage::drained : Drainage::undrained;
+  shear.drainage =
+      c.string("loading.drainage") == "drained" ? Drainage::drained : Drainage::undrained;
   shear.deviatoric_strain_rate = c.number("loading.deviatoric_strain_rate");
   shear.duration = c.number("loading.final_deviatoric_strain") / shear.deviatoric_strain_rate;
   shear.steps = static_cast<int>(c.integer("loading.steps"));
@@ -165,7 +191,8 @@ void write_series(core::ResultFile& out, const std::string& g, const ElementSeri
   out.write(g + "/yield_size", s.yield_size, "Pa", "r_c");
   out.write(g + "/void_ratio", s.void_ratio, "1", "e");
   out.write(g + "/fluidized", s.fluidized, "1", "1 when σ_FC = 0 (r_c = 0)");
-  out.write(g + "/yield_value", s.yield_value, "1", "f at the end of the step (<= FTOL when solid)");
+  out.write(g + "/yield_value", s.yield_value, "1",
+            "f at the end of the step (<= FTOL when solid)");
   out.write(g + "/stage", s.stage, "1", "0 = shearing, 1 = reconsolidation");
 }
 
@@ -247,16 +274,16 @@ int run_triaxial_case(core::RunContext& ctx) {
     sum.set("final.eps_d" + suffix, s.deviatoric_strain[last]);
     if (s.effective_pressure[last] > 0) {
       sum.set("final.stress_ratio" + suffix, s.q_force_chain[last] / s.effective_pressure[last]);
-      sum.set("final.e_cs" + suffix, point.force_chain_model()->critical_state().critical_void_ratio(
-                                          s.effective_pressure[last]));
+      sum.set("final.e_cs" + suffix,
+              point.force_chain_model()->critical_state().critical_void_ratio(
+                  s.effective_pressure[last]));
     }
     if (control.stages.size() > 1) {
       sum.set("shear_end.T" + suffix, s.granular_temperature[shear_end - 1]);
       sum.set("shear_end.r_c" + suffix, s.yield_size[shear_end - 1]);
       sum.set("shear_end.u_w" + suffix, s.pore_pressure[shear_end - 1]);
       if (r.resolidification_time >= 0)
-        sum.set("reconsolidation.time" + suffix,
-                r.resolidification_time - s.time[shear_end - 1]);
+        sum.set("reconsolidation.time" + suffix, r.resolidification_time - s.time[shear_end - 1]);
     }
     sum.set("check.max_radial_residual" + suffix, r.max_radial_residual);
     rates.push_back(control.stages[0].deviatoric_strain_rate);
@@ -264,15 +291,15 @@ int run_triaxial_case(core::RunContext& ctx) {
     residual_q_col.push_back(tail_mean(s.q_collisional, 1, shear_end));
     residual_q_liq.push_back(tail_mean(s.q_liquid, 1, shear_end));
     if (sweep) sum.set("rate" + suffix, control.stages[0].deviatoric_strain_rate);
-    ctx.log->info("{}: {} steps, {} point updates; liquefaction at ε_d = {}; residual q = {:.4g} Pa "
-                  "(FC {:.4g}, COL {:.4g}, L {:.4g}); final e = {:.5g}, p' = {:.5g} Pa, u_w = {:.6g} Pa, "
-                  "T = {:.3g} m²/s², r_c = {:.4g} Pa",
-                  label, r.steps, r.solver_evaluations,
-                  r.liquefaction_strain >= 0 ? fmt::format("{:.4g}", r.liquefaction_strain) : "never",
-                  q_res, tail_mean(s.q_force_chain, 1, shear_end),
-                  tail_mean(s.q_collisional, 1, shear_end), tail_mean(s.q_liquid, 1, shear_end),
-                  s.void_ratio[last], s.effective_pressure[last], s.pore_pressure[last],
-                  s.granular_temperature[last], s.yield_size[last]);
+    ctx.log->info(
+        "{}: {} steps, {} point updates; liquefaction at ε_d = {}; residual q = {:.4g} Pa "
+        "(FC {:.4g}, COL {:.4g}, L {:.4g}); final e = {:.5g}, p' = {:.5g} Pa, u_w = {:.6g} Pa, "
+        "T = {:.3g} m²/s², r_c = {:.4g} Pa",
+        label, r.steps, r.solver_evaluations,
+        r.liquefaction_strain >= 0 ? fmt::format("{:.4g}", r.liquefaction_strain) : "never", q_res,
+        tail_mean(s.q_force_chain, 1, shear_end), tail_mean(s.q_collisional, 1, shear_end),
+        tail_mean(s.q_liquid, 1, shear_end), s.void_ratio[last], s.effective_pressure[last],
+        s.pore_pressure[last], s.granular_temperature[last], s.yield_size[last]);
     total_steps += r.steps;
     total_evaluations += r.solver_evaluations;
     max_residual = std::max(max_residual, r.max_radial_residual);
@@ -280,7 +307,8 @@ int run_triaxial_case(core::RunContext& ctx) {
   }
   // Rate sweep: slopes of log residual q against log ε̇_d over the 3 lowest and 3 highest rates.
   const auto& keys = ctx.run_case.sweep_keys();
-  if (sweep && keys.size() == 1 && keys[0] == "loading.deviatoric_strain_rate" && rates.size() >= 4) {
+  if (sweep && keys.size() == 1 && keys[0] == "loading.deviatoric_strain_rate" &&
+      rates.size() >= 4) {
     std::vector<std::size_t> order(rates.size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
     std::sort(order.begin(), order.end(), [&](auto a, auto b) { return rates[a] < rates[b]; });
@@ -300,8 +328,10 @@ int run_triaxial_case(core::RunContext& ctx) {
     ctx.result.write("/sweep/residual_q_liq", residual_q_liq, "Pa", "residual q of σ_L");
     ctx.result.attribute("/sweep", "slope_low", slope_of(0));
     ctx.result.attribute("/sweep", "slope_high", slope_of(rates.size() - 3));
-    ctx.log->info("rate sweep: slope of log q_res vs log ε̇_d = {:.3f} (3 lowest rates), {:.3f} "
-                  "(3 highest)", slope_of(0), slope_of(rates.size() - 3));
+    ctx.log->info(
+        "rate sweep: slope of log q_res vs log ε̇_d = {:.3f} (3 lowest rates), {:.3f} "
+        "(3 highest)",
+        slope_of(0), slope_of(rates.size() - 3));
   }
   if (sweep) ctx.summary.set("sweep.count", static_cast<double>(conditions.size()));
   const double wall = ctx.wall_seconds();
@@ -309,8 +339,10 @@ int run_triaxial_case(core::RunContext& ctx) {
   ctx.summary.set("cost.point_updates", static_cast<double>(total_evaluations));
   ctx.summary.set("cost.point_updates_per_s", total_evaluations / std::max(wall, 1e-9));
   ctx.summary.set("accuracy.max_radial_residual", max_residual);
-  ctx.log->info("cost: {} steps, {} point updates in {:.3f} s; largest radial stress residual "
-                "{:.3g} Pa", total_steps, total_evaluations, wall, max_residual);
+  ctx.log->info(
+      "cost: {} steps, {} point updates in {:.3f} s; largest radial stress residual "
+      "{:.3g} Pa",
+      total_steps, total_evaluations, wall, max_residual);
   ctx.plot("plot_rev_triaxial.py");
   return core::exit_ok;
 }

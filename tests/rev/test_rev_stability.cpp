@@ -22,8 +22,8 @@ struct Loaded {
 };
 Loaded load(const std::string& name, const std::vector<std::string>& overrides = {}) {
   static const core::Schema schema = rev::triaxial_schema();
-  const core::Case c = core::Case::load(
-      std::string(GRANFLOW_SOURCE_DIR) + "/cases/rev/" + name, overrides, schema);
+  const core::Case c =
+      core::Case::load(std::string(GRANFLOW_SOURCE_DIR) + "/cases/rev/" + name, overrides, schema);
   return {continuum::read_multi_regime_settings(c), rev::read_triaxial_control(c)};
 }
 
@@ -72,13 +72,35 @@ TEST(RevStability, EffectivePressureNearZero) {
   // p'0 = 1.5 kPa (r_c0 = 2.6 kPa, just above the fluidization size of 1 kPa) and 200 Pa (below:
   // fluidized from the start, σ_FC = 0): undrained shearing at 1 and 100 1/s stays sane.
   for (const char* p0 : {"initial.effective_pressure=1500", "initial.effective_pressure=200"})
-    for (const char* rate : {"loading.deviatoric_strain_rate=1", "loading.deviatoric_strain_rate=100"}) {
+    for (const char* rate :
+         {"loading.deviatoric_strain_rate=1", "loading.deviatoric_strain_rate=100"}) {
       auto [settings, control] = load("triaxial_undrained_rate1.yaml", {p0, rate});
       rev::ElementResult r;
       ASSERT_NO_THROW(r = rev::run_triaxial(continuum::MultiRegimePoint(settings), control))
           << p0 << " " << rate;
       expect_sane(r.series, std::string(p0) + " " + rate);
       EXPECT_EQ(r.series.fluidized.back(), 1.0) << p0 << " " << rate;  // loose: ends fluidized
+    }
+}
+
+TEST(RevStability, VoidRatioAtItsBounds) {
+  // e0 = 0.52 (ν = 0.658, just below ν_c = ν_m = 0.66 of the case, denser than e_min + 0.07)
+  // and e0 = 1.05 (beyond the force-chain e_max = 1: no regrowth), drained and undrained, at
+  // the largest step: sane throughout; the dense sample dilates away from the bound.
+  for (const char* e0 : {"initial.void_ratio=0.52", "initial.void_ratio=1.05"})
+    for (const char* drainage : {"loading.drainage=drained", "loading.drainage=undrained"}) {
+      const std::string what = std::string(e0) + " " + drainage;
+      auto [settings, control] =
+          load("drained_critical_state.yaml",
+               {e0, drainage, "loading.steps=10", "loading.final_deviatoric_strain=0.2"});
+      rev::ElementResult r;
+      ASSERT_NO_THROW(r = rev::run_triaxial(continuum::MultiRegimePoint(settings), control))
+          << what;
+      expect_sane(r.series, what);
+      if (std::string(e0).find("0.52") != std::string::npos &&
+          std::string(drainage).find("=drained") != std::string::npos) {
+        EXPECT_GT(r.series.void_ratio.back(), 0.52 + 0.01) << what;  // dilation (ψ0 ≈ -0.1)
+      }
     }
 }
 
@@ -124,8 +146,8 @@ TEST(RevStability, OrderOfConvergenceOfTheStressUpdate) {
   }
   for (std::size_t i = 0; i + 1 < steps.size(); ++i) {
     const double order = std::log2(error[i] / error[i + 1]);
-    std::printf("REV stress update: steps %d -> %d, error %.4g -> %.4g Pa, order %.3f\n",
-                steps[i], steps[i + 1], error[i], error[i + 1], order);
+    std::printf("REV stress update: steps %d -> %d, error %.4g -> %.4g Pa, order %.3f\n", steps[i],
+                steps[i + 1], error[i], error[i + 1], order);
     // measured 2.5, 2.4, 2.4 (mildly super-quadratic: the reference is 16× finer, not exact)
     EXPECT_GT(order, 1.8) << "steps " << steps[i];
     EXPECT_LT(order, 3.0) << "steps " << steps[i];

@@ -6,8 +6,8 @@
 
 #include "continuum/multi_regime/granular_temperature_update.hpp"
 
-using granflow::continuum::RiccatiCoefficients;
 using granflow::continuum::advance_sqrt_temperature;
+using granflow::continuum::RiccatiCoefficients;
 using granflow::continuum::steady_sqrt_temperature;
 
 namespace {
@@ -25,8 +25,8 @@ double rk4(double s, const RiccatiCoefficients& k, double dt, int n) {
 TEST(TemperatureUpdate, ExactSolutionMatchesFineRungeKutta) {
   // heating from cold, cooling from hot, with and without the linear (Λ) sink, and a negative c
   // (compaction heating); RK4 with 1e5 sub-steps has error ~1e-15 relative here.
-  const RiccatiCoefficients cases[] = {{2.0, 3.0, 0.0}, {2.0, 3.0, 5.0}, {0.5, 1.0, -0.7}, {0.0, 2.0, 1.0},
-                                       {1.0, 0.0, 2.0}};
+  const RiccatiCoefficients cases[] = {
+      {2.0, 3.0, 0.0}, {2.0, 3.0, 5.0}, {0.5, 1.0, -0.7}, {0.0, 2.0, 1.0}, {1.0, 0.0, 2.0}};
   for (const auto& k : cases)
     for (double s0 : {0.0, 0.1, 3.0})
       for (double dt : {1e-3, 0.1, 2.0}) {

@@ -98,8 +98,10 @@ TEST(Triaxial, LiquefactionSignatureOfTheSeedCase) {
   // 10 1/s (> 10×), and about two orders of magnitude larger at 10 1/s (paper: "two orders").
   const auto slow_in = load("triaxial_undrained_rate1.yaml");
   const auto fast_in = load("triaxial_undrained_rate10.yaml");
-  const auto slow = rev::run_triaxial(continuum::MultiRegimePoint(slow_in.settings), slow_in.control);
-  const auto fast = rev::run_triaxial(continuum::MultiRegimePoint(fast_in.settings), fast_in.control);
+  const auto slow =
+      rev::run_triaxial(continuum::MultiRegimePoint(slow_in.settings), slow_in.control);
+  const auto fast =
+      rev::run_triaxial(continuum::MultiRegimePoint(fast_in.settings), fast_in.control);
   ASSERT_GT(slow.liquefaction_strain, 0.02);
   ASSERT_LT(slow.liquefaction_strain, 0.1);
   ASSERT_GT(fast.liquefaction_strain, 0.02);
@@ -125,10 +127,10 @@ TEST(Triaxial, LiquefactionSignatureOfTheSeedCase) {
                 tail(r->series, r->series.q_collisional) + tail(r->series, r->series.q_liquid),
                 1e-9 * tail(r->series, r->series.q));
   }
-  const double ratio_slow = tail(slow.series, slow.series.q_collisional) /
-                            tail(slow.series, slow.series.q_liquid);
-  const double ratio_fast = tail(fast.series, fast.series.q_collisional) /
-                            tail(fast.series, fast.series.q_liquid);
+  const double ratio_slow =
+      tail(slow.series, slow.series.q_collisional) / tail(slow.series, slow.series.q_liquid);
+  const double ratio_fast =
+      tail(fast.series, fast.series.q_collisional) / tail(fast.series, fast.series.q_liquid);
   EXPECT_GT(ratio_slow, 1.0 / 3.0);
   EXPECT_LT(ratio_slow, 3.0);
   EXPECT_GT(ratio_fast, 10.0);
@@ -189,10 +191,9 @@ TEST(Triaxial, IsotropicCompressionClosedForm) {
   const double p0 = 10e3, n = par.elastic_exponent;
   for (std::size_t i = 20; i < r.series.time.size(); i += 20) {
     const double p = r.series.effective_pressure[i];
-    const double eps = par.b_p * std::log(p / p0) +
-                       std::pow(par.reference_pressure, n) *
-                           (std::pow(p, 1 - n) - std::pow(p0, 1 - n)) /
-                           (par.bulk_modulus_ref * (1 - n));
+    const double eps = par.b_p * std::log(p / p0) + std::pow(par.reference_pressure, n) *
+                                                        (std::pow(p, 1 - n) - std::pow(p0, 1 - n)) /
+                                                        (par.bulk_modulus_ref * (1 - n));
     EXPECT_NEAR(eps, r.series.volumetric_strain[i], 1e-3 * r.series.volumetric_strain[i]) << i;
     // e from the mass balance: 1 + e = (1 + e0) exp(-ε_v)
     EXPECT_NEAR(1 + r.series.void_ratio[i], 1.8 * std::exp(-r.series.volumetric_strain[i]), 1e-12);
