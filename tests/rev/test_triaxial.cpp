@@ -229,3 +229,27 @@ TEST(SimpleShearAllTerms, LooseSkeletonFluidizesToTheCollisionalLiquidSteadyStat
   EXPECT_NEAR(with.steady.granular_temperature / without.steady.granular_temperature, 1.0, 1e-6);
   EXPECT_NEAR(with.steady.shear_stress / without.steady.shear_stress, 1.0, 1e-6);
 }
+
+TEST(Triaxial, DrainedHighRateUnloadsTheSkeletonAndFluidizesEvenDense) {
+  // Seed §3.1: at constant (total) pressure a high enough rate fluidizes any sample. At
+  // 1000 1/s T raises p_COL, the radial total stress is held, so p' = p_FC falls as p_COL rises:
+  // the dense sample (e0 = 0.57, ψ0 ≈ -0.07, which at 0.01 1/s only hardens and dilates to the
+  // critical state) loses its skeleton and the mixture dilates far beyond e_cs ≈ 0.63.
+  auto [settings, control] = load("drained_high_rate.yaml", {"initial.void_ratio=0.57"});
+  const auto r = rev::run_triaxial(continuum::MultiRegimePoint(settings), control);
+  const auto& s = r.series;
+  ASSERT_GT(r.liquefaction_strain, 0.0);
+  ASSERT_LT(r.liquefaction_strain, 0.1);
+  std::size_t liq = 0;
+  while (s.fluidized[liq] < 0.5) ++liq;
+  const double p_fc_max =
+      *std::max_element(s.effective_pressure.begin(), s.effective_pressure.begin() + liq);
+  EXPECT_LT(s.effective_pressure[liq - 1], 0.1 * p_fc_max);  // the skeleton unloaded first
+  EXPECT_GT(s.collisional_pressure[liq - 1], 0.5 * 50e3);    // p_COL took over the load
+  EXPECT_GT(s.void_ratio.back(), 0.8);                       // strong dilation
+  // in the fluidized state the radial total stress is carried by p_COL (with its viscous part):
+  // p_COL ≥ σ_cell - u_w = 50 kPa, the collisional radial stress p_COL - q_COL/3 equals it
+  const std::size_t last = s.time.size() - 1;
+  EXPECT_NEAR(s.collisional_pressure[last] - s.q_collisional[last] / 3.0 - s.q_liquid[last] / 3.0,
+              50e3, 1.0);  // 1 Pa: radial stress tolerance 1e-9 σ_cell plus round-off
+}
