@@ -7,6 +7,7 @@
 #include <cmath>
 #include <optional>
 
+#include "continuum/model/closures.hpp"
 #include "continuum/mpm/analytic.hpp"
 #include "continuum/mpm/checkpoint.hpp"
 #include "continuum/mpm/field_writer.hpp"
@@ -54,7 +55,7 @@ void add_numerics(core::Schema& s, NumericsDefaults d) {
   n.boolean("liquid_volumetric_smoothing",
             "cell-averaged volumetric rate for the liquid pressure (linear shapes)")
       .default_value(d.smoothing);
-  n.integer("threads", "OpenMP threads (0: OMP_NUM_THREADS / all cores)")
+  n.integer("threads", "OpenMP threads (0: one per 10,000 points, at most OMP_NUM_THREADS)")
       .default_value("0")
       .at_least(0);
   auto& o = s.section("output", "field files and checkpoint");
@@ -101,6 +102,17 @@ core::Schema terzaghi_schema() {
   l.number("darcy_gravity", "m/s^2", "g in γ_w = ρ_w g of k_D")
       .default_value("9.81")
       .greater_than(0);
+  l.choice("drag_law", {"darcy", "closure"},
+           "darcy: β = n² γ_w / k_D; closure: β = η0 n / κ(ν) of model::drag_coefficient (the "
+           "REV/DEM closure; the analytic check uses the equivalent k_D = n γ_w κ / η0)")
+      .default_value("darcy");
+  l.number("viscosity", "Pa s", "η0 (closure drag)").default_value("1.0e-3").greater_than(0);
+  l.number("grain_diameter", "m", "d of the permeability closure")
+      .default_value("1.0e-3")
+      .greater_than(0);
+  l.choice("permeability", model::permeability_names(), "permeability closure (model.md §4)")
+      .default_value("seed_eq26");
+  l.number("sphericity", "1", "A of seed Eq. 26").default_value("1.0").greater_than(0);
   auto& ld = s.section("loading", "surface load");
   ld.number("load", "Pa", "total-stress load q on the top").default_value("1.0e4").greater_than(0);
   ld.boolean("undrained_start",
@@ -325,6 +337,11 @@ int run_terzaghi(core::RunContext& ctx) {
   t.bulk_modulus = c.number("liquid.bulk_modulus");
   t.hydraulic_conductivity = c.number("liquid.hydraulic_conductivity");
   t.gravity_for_darcy = c.number("liquid.darcy_gravity");
+  t.closure_drag = c.string("liquid.drag_law") == "closure";
+  t.closure.viscosity = c.number("liquid.viscosity");
+  t.closure.permeability = model::parse_permeability(c.string("liquid.permeability"));
+  t.closure.sphericity = c.number("liquid.sphericity");
+  t.grain_diameter = c.number("liquid.grain_diameter");
   t.load = c.number("loading.load");
   t.undrained_start = c.boolean("loading.undrained_start");
   t.options = read_options(c);
@@ -332,8 +349,11 @@ int run_terzaghi(core::RunContext& ctx) {
   maybe_restart(ctx, *s);
   report_setup(ctx, *s);
   const TerzaghiConstants k = terzaghi_constants(t);
-  ctx.log->info("Terzaghi: p0 = {:.6g} Pa, c_v = {:.6g} m²/s, final settlement {:.6g} m", k.p0,
-                k.cv, k.final_settlement);
+  ctx.log->info(
+      "Terzaghi: p0 = {:.6g} Pa, k_D = {:.6g} m/s{}, c_v = {:.6g} m²/s, final "
+      "settlement {:.6g} m",
+      k.p0, k.hydraulic_conductivity, t.closure_drag ? " (equivalent to the closure)" : "", k.cv,
+      k.final_settlement);
   const double ms0 = s->total_mass(Phase::solid), ml0 = s->total_mass(Phase::liquid);
   auto isochrones = c.number_list("run.isochrones");
   std::sort(isochrones.begin(), isochrones.end());
@@ -397,6 +417,7 @@ int run_terzaghi(core::RunContext& ctx) {
   ctx.summary.set("terzaghi.p0", k.p0);
   ctx.summary.set("terzaghi.cv", k.cv);
   ctx.summary.set("terzaghi.cell", t.cell);
+  ctx.summary.set("terzaghi.hydraulic_conductivity", k.hydraulic_conductivity);
   finish_output(ctx, *s);
   ctx.plot("plot_mpm.py");
   return core::exit_ok;

@@ -70,7 +70,14 @@ TerzaghiConstants terzaghi_constants(const TerzaghiSpec& t) {
   TerzaghiConstants k;
   k.constrained_modulus = M;
   k.p0 = analytic::undrained_pressure(t.load, M, t.porosity, t.bulk_modulus);
-  k.cv = analytic::consolidation_coefficient(t.hydraulic_conductivity,
+  k.hydraulic_conductivity = t.hydraulic_conductivity;
+  if (t.closure_drag) {
+    // β_closure = η0 n / κ (seed Eq. 25) equals the Darcy n² γ_w / k_D for k_D = n γ_w κ / η0.
+    const double kappa = model::permeability(t.closure, t.grain_diameter, 1.0 - t.porosity);
+    k.hydraulic_conductivity =
+        t.porosity * t.liquid_density * t.gravity_for_darcy * kappa / t.closure.viscosity;
+  }
+  k.cv = analytic::consolidation_coefficient(k.hydraulic_conductivity,
                                              t.liquid_density * t.gravity_for_darcy, M, t.porosity,
                                              t.bulk_modulus);
   k.final_settlement = k.p0 * t.height / M;
@@ -87,8 +94,12 @@ std::unique_ptr<Solver> make_terzaghi(const TerzaghiSpec& t) {
   LiquidOptions l;
   l.density = t.liquid_density;
   l.bulk_modulus = t.bulk_modulus;
-  l.drag_law = DragLaw::darcy;
+  l.drag_law = t.closure_drag ? DragLaw::closure : DragLaw::darcy;
   l.hydraulic_conductivity = t.hydraulic_conductivity;
+  l.closure = t.closure;
+  l.closure.density = t.liquid_density;
+  l.closure.bulk_modulus = t.bulk_modulus;
+  l.grain_diameter = t.grain_diameter;
   l.darcy_gravity = t.gravity_for_darcy;
   auto s = std::make_unique<Solver>(g, o, l);
   const int mat = s->add_material(

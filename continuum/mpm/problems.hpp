@@ -37,6 +37,11 @@ struct TerzaghiSpec {
   double young_modulus = 1.0e7, poisson_ratio = 0.0, porosity = 0.3;
   double grain_density = 2650.0, liquid_density = 1000.0, bulk_modulus = 1.0e8;
   double hydraulic_conductivity = 1.0e-3, gravity_for_darcy = 9.81;
+  // Drag from the granflow closure (model::drag_coefficient, β = η0 n / κ(ν)) instead of Darcy's
+  // k_D; the analytic solution then uses the equivalent k_D = n γ_w κ / η0.
+  bool closure_drag = false;
+  double grain_diameter = 1e-3;
+  model::LiquidParameters closure;
   double load = 1.0e4;
   bool undrained_start = true;
   SolverOptions options;
@@ -44,6 +49,7 @@ struct TerzaghiSpec {
 std::unique_ptr<Solver> make_terzaghi(const TerzaghiSpec& spec);
 struct TerzaghiConstants {
   double constrained_modulus, p0, cv, final_settlement;
+  double hydraulic_conductivity;  // k_D (given, or equivalent to the closure drag)
 };
 TerzaghiConstants terzaghi_constants(const TerzaghiSpec& spec);
 // RMS of (p - p_exact) over the liquid points inside the layer, divided by p0.

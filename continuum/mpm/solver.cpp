@@ -103,7 +103,13 @@ void Solver::add_nodal_force(Phase phase, int node, double fx, double fy) {
 }
 
 void Solver::initialize() {
-  threads_ = options_.threads > 0 ? options_.threads : omp_get_max_threads();
+  // Automatic thread count: one thread per 10,000 points (at most OMP_NUM_THREADS); below that
+  // the fork/join of the ~10 parallel regions per step costs more than it saves.
+  const long points = static_cast<long>(solid_.size() + liquid_.size());
+  threads_ = options_.threads > 0
+                 ? options_.threads
+                 : static_cast<int>(
+                       std::clamp(points / 10000L, 1L, static_cast<long>(omp_get_max_threads())));
   acc_.assign(static_cast<std::size_t>(NF) * nn_, 0.0);
   if (threads_ > 1) scratch_.assign(static_cast<std::size_t>(NF) * nn_ * threads_, 0.0);
   for (auto* v : {&asx_, &asy_, &alx_, &aly_}) v->assign(nn_, 0.0);
