@@ -50,8 +50,8 @@ void expect_sane(const rev::ElementSeries& s, const std::string& what) {
 
 TEST(RevStability, RatesFromCreepToImpactWithTheLargestAndSmallStep) {
   // ε̇_d from 1e-6 to 1e3 1/s, drained and undrained (K_w = 2.2 GPa), with the largest step a
-  // case allows (loading.steps >= 10: Δε_d = 0.012) and a fine one: no NaN, no failure, and the
-  // invariants above.
+  // case allows (loading.steps >= 10, final ε_d <= 2: Δε_d = 0.2) and a fine one (1e-4): no NaN, no
+  // failure, and the invariants above.
   for (const char* drainage : {"loading.drainage=undrained", "loading.drainage=drained"})
     for (double rate : {1e-6, 1e-3, 1.0, 1e3})
       for (int steps : {10, 1200}) {
@@ -60,7 +60,9 @@ TEST(RevStability, RatesFromCreepToImpactWithTheLargestAndSmallStep) {
         auto [settings, control] =
             load("triaxial_undrained_rate1.yaml",
                  {drainage, "loading.deviatoric_strain_rate=" + std::to_string(rate),
-                  "loading.steps=" + std::to_string(steps)});
+                  "loading.steps=" + std::to_string(steps),
+                  // 10 steps to ε_d = 2: Δε_d = 0.2, the largest the schema admits
+                  steps == 10 ? "loading.final_deviatoric_strain=2" : "loading.steps=1200"});
         rev::ElementResult r;
         ASSERT_NO_THROW(r = rev::run_triaxial(continuum::MultiRegimePoint(settings), control))
             << what;
