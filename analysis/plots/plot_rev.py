@@ -24,6 +24,24 @@ def series_plots(run, h5):
     axes[2].set(xlabel="shear strain γ", ylabel="e", title="void ratio")
     fig.tight_layout()
     fig.savefig(os.path.join(run, "series.png"), dpi=120)
+    plt.close(fig)
+    # with force chains: τ and its three parts, p' and r_c
+    if "force_chain_shear_stress" in g and np.any(g["force_chain_shear_stress"][:] != 0):
+        fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
+        axes[0].semilogx(strain, g["shear_stress"][:], "g", label="τ total")
+        axes[0].semilogx(strain, g["force_chain_shear_stress"][:], "k--", label="τ_FC")
+        axes[0].semilogx(strain, g["collisional_shear_stress"][:], "r", label="τ_COL")
+        axes[0].semilogx(strain, g["liquid_shear_stress"][:], "b", label="τ_L")
+        axes[0].set_yscale("symlog", linthresh=1.0)
+        axes[0].set(xlabel="shear strain γ", ylabel="τ [Pa]", title="shear stress and its parts")
+        axes[0].legend(fontsize=8)
+        axes[1].semilogx(strain, g["effective_pressure"][:] / 1e3, "k", label="p'")
+        axes[1].semilogx(strain, g["yield_size"][:] / 1e3, "k:", label="r_c")
+        axes[1].set(xlabel="shear strain γ", ylabel="[kPa]", title="skeleton: p' and r_c")
+        axes[1].legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(os.path.join(run, "force_chains.png"), dpi=120)
+        plt.close(fig)
 
 
 def sweep_plots(run, h5):
