@@ -49,6 +49,9 @@ int run_in_directory(const std::vector<std::string>& command,
                      const std::filesystem::path& directory,
                      const std::filesystem::path& output_file, const std::function<void()>& poll,
                      double poll_seconds) {
+  // Absolute paths: the child changes directory before it opens the output file.
+  const std::string dir = std::filesystem::absolute(directory).string();
+  const std::string out = std::filesystem::absolute(output_file).string();
   std::vector<char*> argv;
   std::vector<std::string> args = command;
   for (auto& a : args) argv.push_back(a.data());
@@ -56,8 +59,8 @@ int run_in_directory(const std::vector<std::string>& command,
   const pid_t pid = ::fork();
   if (pid < 0) throw std::runtime_error("cannot fork to launch granflow-dem");
   if (pid == 0) {
-    if (::chdir(directory.c_str()) != 0) ::_exit(127);
-    const int fd = ::open(output_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (::chdir(dir.c_str()) != 0) ::_exit(127);
+    const int fd = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd < 0) ::_exit(127);
     ::dup2(fd, 1);
     ::dup2(fd, 2);

@@ -1,0 +1,84 @@
+// `granflow run/check` on kind: dem cases, end to end (the CLI launches granflow-dem).
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "core/run.hpp"
+#include "tests/dem/driver_runner.hpp"
+
+namespace {
+
+using granflow::dem::testing::fresh_directory;
+
+// 200 frictional spheres at constant volume, 1 strain unit at 50 1/s (~5000 steps): seconds.
+const char* small_case = R"(kind: dem
+name: small
+material:
+  diameter: 1.0e-3
+  particle_density: 2500
+  restitution: 0.7
+  particle_friction: 0.5
+dem:
+  particles: 200
+  compression_steps: 2000
+control:
+  mode: constant_volume
+  solid_fraction: 0.55
+shear_rate: 50
+strain:
+  total: 1.5
+  sample: 0.01
+)";
+
+int run_cli(const std::string& args, const std::filesystem::path& dir) {
+  const std::string cmd =
+      fmt::format("cd '{}' && '{}' {} > cli.txt 2>&1", dir.string(), GRANFLOW_CLI_PATH, args);
+  const int raw = std::system(cmd.c_str());
+  return WIFEXITED(raw) ? WEXITSTATUS(raw) : 128;
+}
+
+std::string read(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+TEST(DemCli, ImpossibleCaseIsRefusedBeforeLiggghtsStarts) {
+  const auto dir = fresh_directory("cli_refused");
+  std::ofstream(dir / "case.yaml") << small_case;
+  // Solid fraction beyond random close packing: exit 2 naming the key, nothing launched.
+  EXPECT_EQ(run_cli("run case.yaml --out run --set control.solid_fraction=0.7", dir),
+            granflow::core::exit_bad_input);
+  const std::string out = read(dir / "cli.txt");
+  EXPECT_NE(out.find("control.solid_fraction"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "run" / "in.granflow"));
+  // Too few particles for the periodic box.
+  EXPECT_EQ(run_cli("check case.yaml --set dem.particles=10", dir), granflow::core::exit_bad_input);
+  EXPECT_NE(read(dir / "cli.txt").find("dem.particles"), std::string::npos);
+}
+
+TEST(DemCli, SmallCaseRunsEndToEndAndWritesTheIssueKeys) {
+  const auto dir = fresh_directory("cli_run");
+  std::ofstream(dir / "case.yaml") << small_case;
+  ASSERT_EQ(run_cli("run case.yaml --out run", dir), 0) << read(dir / "cli.txt");
+  const auto run = dir / "run";
+  EXPECT_TRUE(std::filesystem::exists(run / "in.granflow"));
+  EXPECT_TRUE(std::filesystem::exists(run / "result.h5"));
+  const auto summary = granflow::core::Summary::read(run / "summary.json");
+  for (const char* key : {"steady.mu", "steady.mu_err", "steady.phi", "steady.phi_err", "steady.e",
+                          "steady.T", "steady.T_err", "steady.p", "steady.p_err", "steady.tau",
+                          "steady.I", "steady.Z", "steady.start_strain", "cost.wall_s",
+                          "cost.particle_steps_per_s", "dem.particles", "dem.dt"})
+    EXPECT_TRUE(summary.contains(key)) << key;
+  // Constant volume: phi is imposed exactly; mu = tau / p by definition of the summary values.
+  EXPECT_NEAR(summary.get("steady.phi"), 0.55, 1e-9);
+  EXPECT_NEAR(summary.get("steady.mu"), summary.get("steady.tau") / summary.get("steady.p"), 1e-12);
+  EXPECT_EQ(summary.get("dem.particles"), 200);
+  // The rerun command is in the log, and the deck reproduces the run by hand.
+  EXPECT_NE(read(run / "log.txt").find("granflow-dem in.granflow"), std::string::npos);
+}
+
+}  // namespace
