@@ -279,14 +279,17 @@ void FixFluidLE::post_force(int /*vflag*/) {
 
   // (a) drag relative to the streaming velocity, and rotational drag relative to Ω.
   if (settings_.drag || settings_.rotational_drag) {
-    // c_p ∝ d for every correlation (κ ∝ d²), but it is evaluated per particle through the
-    // continuum's function so that the DEM and the continuum share one implementation.
+    // Every correlation has κ = d² × (a function of ν), so c_p(d, ν) = d c_p(1 m, ν): the
+    // continuum's particle_drag_coefficient is evaluated once per step and scaled by d
+    // (tests/dem_fluid/test_dem_fluid_time_step.cpp checks the proportionality for each option).
+    const double drag_per_diameter =
+        settings_.drag ? model::particle_drag_coefficient(settings_.liquid, 1.0, nu) : 0.0;
     for (int i = 0; i < nlocal; ++i) {
       if (!(mask[i] & groupbit)) continue;
       const double d = 2.0 * radius[i];
       const double dx[3] = {x[i][0] - lo[0], x[i][1] - lo[1], x[i][2] - lo[2]};
       if (settings_.drag) {
-        const double c = model::particle_drag_coefficient(settings_.liquid, d, nu);
+        const double c = drag_per_diameter * d;
         double F[3];
         double dissipation = 0.0;
         for (int a = 0; a < 3; ++a) {
@@ -321,7 +324,7 @@ void FixFluidLE::post_force(int /*vflag*/) {
   // (b) pairwise lubrication on the granular half list (newton off: a pair with an owned j is
   // listed once and updates both; a pair with a ghost j is listed by both owners, so each applies
   // its own half and counts the pair's virial and dissipation with weight 1/2).
-  if (settings_.lubrication) {
+  if (settings_.lubrication && atom->nlocal + atom->nghost > 0) {
     const LAMMPS_NS::NeighList* list = force->pair->list;
     const int inum = list->inum;
     const int* ilist = list->ilist;
@@ -331,52 +334,69 @@ void FixFluidLE::post_force(int /*vflag*/) {
     const bool tangential = settings_.tangential_lubrication;
     double* wn = &acc[vec::lubrication_normal];
     double* wt = &acc[vec::lubrication_tangential];
+    // Flat views of the per-atom arrays (LAMMPS allocates each as one contiguous block), so a
+    // neighbour costs one load per quantity instead of a pointer chase.
+    const double* xf = x[0];
+    const double* vf = v[0];
+    const double* wf = omega[0];
+    double* ff = f[0];
+    double* tf = torque[0];
+    const bool whole_system = groupbit == 1;  // group all: every atom (and ghost) is in it
     for (int ii = 0; ii < inum; ++ii) {
       const int i = ilist[ii];
       if (!(mask[i] & groupbit)) continue;
       const double ri = radius[i];
+      const double xi[3] = {xf[3 * i], xf[3 * i + 1], xf[3 * i + 2]};
+      // Most listed pairs are beyond h_max: reject them on the distance alone first.
+      const double reach_any = ri + largest_radius_ + h_max;
+      const double reach_any_sq = reach_any * reach_any;
       const int* jlist = firstneigh[i];
       for (int jj = 0; jj < numneigh[i]; ++jj) {
         const int j = jlist[jj] & NEIGHMASK;
-        if (!(mask[j] & groupbit)) continue;
-        const double rj = radius[j];
-        const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+        const double del[3] = {xi[0] - xf[3 * j], xi[1] - xf[3 * j + 1], xi[2] - xf[3 * j + 2]};
         const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
+        if (rsq >= reach_any_sq) continue;
+        if (!whole_system && !(mask[j] & groupbit)) continue;
+        const double rj = radius[j];
         const double reach = ri + rj + h_max;
         if (rsq >= reach * reach) continue;
         const double r = std::sqrt(rsq);
         const double h = r - ri - rj;
-        const double n[3] = {del[0] / r, del[1] / r, del[2] / r};  // from j to i
+        const double inverse_r = 1.0 / r;
+        const double n[3] = {del[0] * inverse_r, del[1] * inverse_r,
+                             del[2] * inverse_r};  // from j to i
         // Ghost velocities carry the Lees-Edwards shift (fix deform remap v).
-        const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
+        const double dv[3] = {vf[3 * i] - vf[3 * j], vf[3 * i + 1] - vf[3 * j + 1],
+                              vf[3 * i + 2] - vf[3 * j + 2]};
         const double vn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2];
-        const double cn = normal_lubrication_resistance(eta, ri, rj, h, h_min);
+        const PairLubrication resistance = pair_lubrication(eta, ri, rj, h, h_min, tangential);
+        const double cn = resistance.normal;
         double Fn[3] = {-cn * vn * n[0], -cn * vn * n[1], -cn * vn * n[2]};
         double Ft[3] = {0.0, 0.0, 0.0};
         double dissipation = cn * vn * vn;
         if (tangential) {
           // relative surface velocity at the gap: v_ij - (r_i ω_i + r_j ω_j) × n
-          const double s[3] = {ri * omega[i][0] + rj * omega[j][0],
-                               ri * omega[i][1] + rj * omega[j][1],
-                               ri * omega[i][2] + rj * omega[j][2]};
+          const double s[3] = {ri * wf[3 * i] + rj * wf[3 * j],
+                               ri * wf[3 * i + 1] + rj * wf[3 * j + 1],
+                               ri * wf[3 * i + 2] + rj * wf[3 * j + 2]};
           const double vs[3] = {dv[0] - (s[1] * n[2] - s[2] * n[1]),
                                 dv[1] - (s[2] * n[0] - s[0] * n[2]),
                                 dv[2] - (s[0] * n[1] - s[1] * n[0])};
           const double vsn = vs[0] * n[0] + vs[1] * n[1] + vs[2] * n[2];
           const double vt[3] = {vs[0] - vsn * n[0], vs[1] - vsn * n[1], vs[2] - vsn * n[2]};
-          const double ct = tangential_lubrication_resistance(eta, ri, rj, h, h_min);
+          const double ct = resistance.tangential;
           for (int a = 0; a < 3; ++a) Ft[a] = -ct * vt[a];
           dissipation += ct * (vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
           // torque of F_t at the surface point -r_i n of i (and +r_j n with -F_t on j)
           const double nxF[3] = {n[1] * Ft[2] - n[2] * Ft[1], n[2] * Ft[0] - n[0] * Ft[2],
                                  n[0] * Ft[1] - n[1] * Ft[0]};
-          for (int a = 0; a < 3; ++a) torque[i][a] -= ri * nxF[a];
+          for (int a = 0; a < 3; ++a) tf[3 * i + a] -= ri * nxF[a];
           if (j < nlocal)
-            for (int a = 0; a < 3; ++a) torque[j][a] -= rj * nxF[a];
+            for (int a = 0; a < 3; ++a) tf[3 * j + a] -= rj * nxF[a];
         }
-        for (int a = 0; a < 3; ++a) f[i][a] += Fn[a] + Ft[a];
+        for (int a = 0; a < 3; ++a) ff[3 * i + a] += Fn[a] + Ft[a];
         if (j < nlocal)
-          for (int a = 0; a < 3; ++a) f[j][a] -= Fn[a] + Ft[a];
+          for (int a = 0; a < 3; ++a) ff[3 * j + a] -= Fn[a] + Ft[a];
         const double weight = j < nlocal ? 1.0 : 0.5;
         wn[0] += weight * del[0] * Fn[0];
         wn[1] += weight * del[1] * Fn[1];

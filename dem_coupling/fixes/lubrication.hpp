@@ -52,4 +52,29 @@ inline double tangential_lubrication_resistance(double viscosity, double radius_
          tangential_lubrication_size_factor(radius_i, radius_j) * std::log(1.0 / xi);
 }
 
+// Both resistances of one pair at once, for the pair loop: three divisions and one log instead
+// of the six divisions of the two functions above (same formulas; the size factor is written
+// as (2 r_i² + r_i r_j + 2 r_j²)/(r_i + r_j)², equal to (2 + β + 2β²)/(1 + β)²).
+struct PairLubrication {
+  double normal;      // c_n, N s/m
+  double tangential;  // c_t, N s/m (0 when not requested)
+};
+
+inline PairLubrication pair_lubrication(double viscosity, double radius_i, double radius_j,
+                                        double gap, double minimum_gap, bool tangential) {
+  const double sum = radius_i + radius_j;
+  const double inverse_sum = 1.0 / sum;
+  const double a = radius_i * radius_j * inverse_sum;
+  const double inverse_gap = 1.0 / std::max(gap, minimum_gap);
+  const double six_pi_eta_a = 6.0 * std::numbers::pi * viscosity * a;
+  PairLubrication c{six_pi_eta_a * a * inverse_gap, 0.0};
+  if (tangential) {
+    const double size_factor =
+        (2.0 * radius_i * radius_i + radius_i * radius_j + 2.0 * radius_j * radius_j) *
+        inverse_sum * inverse_sum;
+    c.tangential = six_pi_eta_a * (4.0 / 15.0) * size_factor * std::log(0.5 * sum * inverse_gap);
+  }
+  return c;
+}
+
 }  // namespace granflow::dem

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <string>
 
 #include "dem_coupling/fixes/fluid_time_step.hpp"
 #include "dem_coupling/fixes/lubrication.hpp"
@@ -63,6 +64,12 @@ TEST(DemFluidTimeStep, LubricationResistancesMatchPublishedEqualSphereForms) {
   // symmetric in i, j (Newton's third law for the pair)
   EXPECT_DOUBLE_EQ(tangential_lubrication_resistance(eta, ri, rj, h, 1e-9),
                    tangential_lubrication_resistance(eta, rj, ri, h, 1e-9));
+  // the fused pair evaluation of the fix's loop gives the same resistances
+  const PairLubrication fused = pair_lubrication(eta, ri, rj, h, 1e-9, true);
+  EXPECT_NEAR(fused.normal / normal_lubrication_resistance(eta, ri, rj, h, 1e-9), 1.0, 1e-14);
+  EXPECT_NEAR(fused.tangential / tangential_lubrication_resistance(eta, ri, rj, h, 1e-9), 1.0,
+              1e-14);
+  EXPECT_EQ(pair_lubrication(eta, ri, rj, h, 1e-9, false).tangential, 0.0);
   // held at h_min below it and for overlaps
   EXPECT_DOUBLE_EQ(normal_lubrication_resistance(eta, ri, rj, -1e-6, 2e-6),
                    normal_lubrication_resistance(eta, ri, rj, 2e-6, 2e-6));
@@ -78,6 +85,22 @@ TEST(DemFluidTimeStep, DragUsesTheContinuumCorrelationAtTheSolidFraction) {
   const double F =
       10 * nu / ((1 - nu) * (1 - nu)) + (1 - nu) * (1 - nu) * (1 + 1.5 * std::sqrt(nu));
   EXPECT_NEAR(dilute / dense, (1 - nu) * F, 1e-9 * (1 - nu) * F);
+}
+
+TEST(DemFluidTimeStep, ParticleDragIsProportionalToDiameterForEveryCorrelation) {
+  // fix fluid/le evaluates c_p(1 m, ν) once per step and scales it by d; this holds because
+  // every permeability option is κ = d² f(ν).
+  for (const std::string& name : model::permeability_names()) {
+    model::LiquidParameters liquid;
+    liquid.viscosity = 0.02;
+    liquid.permeability = model::parse_permeability(name);
+    for (double nu : {0.05, 0.3, 0.58})
+      for (double d : {2e-4, 1e-3, 3.7e-3})
+        EXPECT_NEAR(model::particle_drag_coefficient(liquid, d, nu) /
+                        (d * model::particle_drag_coefficient(liquid, 1.0, nu)),
+                    1.0, 1e-14)
+            << name << " nu " << nu << " d " << d;
+  }
 }
 
 TEST(DemFluidTimeStep, SizeRangeTakesTheShortestPair) {

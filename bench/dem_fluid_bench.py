@@ -1,0 +1,123 @@
+#!/usr/bin/env python3
+"""Cost of fix fluid/le relative to a dry step at equal N, and its 2-rank speed-up.
+
+Runs the granflow-dem driver on a self-contained Lees-Edwards shear deck (the study's case:
+13^3 = 2197 bidisperse 0.9/1.1 mm Hertz spheres, compressed to phi = 0.55, sheared at 50 1/s,
+dt = 4e-6 s), once dry and once with `fix fluid/le` (drag + rotation + normal and tangential
+lubrication, eta = 0.01 Pa s, h_max = 50 um, h_min = 1 um), on 1 and 2 MPI ranks, and reads the
+shear-stage wall time (driver_stats.tsv: liggghts_s, the LIGGGHTS part of the shear stage).
+
+usage: bench/dem_fluid_bench.py BUILD_DIR [--steps N] [--repeat R] [--out DIR]
+Prints a markdown table (s per 1000 steps; wet/dry ratio; speed-up) for docs/performance-dem_fluid.md.
+"""
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+
+DECK = """# granflow fix fluid/le benchmark deck (see bench/dem_fluid_bench.py)
+variable gf_shear_rate equal 50
+variable gf_total_steps equal {steps}
+variable gf_sample_every equal {sample}
+variable gf_constant_pressure equal 0
+variable gf_normal_stress equal 0
+variable gf_servo_gain equal 0
+variable gf_servo_max_strain equal 0
+variable gf_servo_every equal {sample}
+variable gf_profile_bins equal 10
+variable gf_particle_density equal 2500
+atom_style      granular
+atom_modify     map array
+boundary        p p p
+newton          off
+communicate     single vel yes
+units           si
+processors      * * 1
+region          box prism 0 0.0169 0 0.0169 0 0.0169 0 0 0 units box
+create_box      2 box
+neighbor        0.0002 bin
+neigh_modify    delay 0
+fix m1 all property/global youngsModulus peratomtype 1.e7 1.e7
+fix m2 all property/global poissonsRatio peratomtype 0.3 0.3
+fix m3 all property/global coefficientRestitution peratomtypepair 2 0.7 0.7 0.7 0.7
+fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5
+pair_style      gran model hertz tangential history
+pair_coeff      * *
+timestep        4e-6
+lattice         sc 0.0013
+create_atoms    1 box
+set             group all type/fraction 2 0.5 4711
+set             type 1 diameter 0.0009 density 2500
+set             type 2 diameter 0.0011 density 2500
+fix             integr all nve/sphere
+compute         gf_virial all pressure thermo_temp virial
+thermo_style    custom step atoms ke c_gf_virial[2]
+thermo_modify   norm no lost error
+thermo          {sample}
+compute         rad all property/atom radius
+variable        vp atom 4.0/3.0*PI*c_rad^3
+compute         vs all reduce sum v_vp
+thermo_style    custom step atoms ke c_gf_virial[2] c_vs
+run             0
+variable        Vs equal c_vs
+variable        Lt equal (${{Vs}}/0.55)^(1.0/3.0)
+fix             comp all deform 1 x final 0 ${{Lt}} y final 0 ${{Lt}} z final 0 ${{Lt}} remap x
+run             10000
+unfix           comp
+thermo_style    custom step atoms ke c_gf_virial[2]
+{fluid}
+variable        vtop equal 50*ly
+variable        ylo0 equal ylo
+variable        yhi0 equal yhi
+velocity        all ramp vx 0.0 ${{vtop}} y ${{ylo0}} ${{yhi0}} units box sum yes
+fix             gf_shear all deform 1 xy erate 50 remap v
+"""
+
+FLUID = ("fix fluid all fluid/le viscosity 0.01 permeability seed_eq26 drag yes rotation yes "
+         "lubrication 5e-5 1e-6 tangential yes")
+
+
+def run(driver, workdir, wet, ranks, steps):
+    os.makedirs(workdir, exist_ok=True)
+    with open(os.path.join(workdir, "in.bench"), "w") as f:
+        f.write(DECK.format(steps=steps, sample=100, fluid=FLUID if wet else ""))
+    cmd = [driver, "in.bench", "-log", "log.txt", "-screen", "none"]
+    env = dict(os.environ)
+    if ranks > 1:
+        cmd = ["mpirun", "-np", str(ranks), "--oversubscribe"] + cmd
+        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    subprocess.run(cmd, cwd=workdir, env=env, check=True, stdout=subprocess.DEVNULL)
+    with open(os.path.join(workdir, "driver_stats.tsv")) as f:
+        header, values = f.read().split("\n")[:2]
+    stats = dict(zip(header.split("\t"), values.split("\t")))
+    return float(stats["liggghts_s"]) / steps * 1000.0  # s per 1000 steps
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("build_dir")
+    ap.add_argument("--steps", type=int, default=5000)
+    ap.add_argument("--repeat", type=int, default=1, help="best of R runs per configuration")
+    ap.add_argument("--out", default=None, help="work directory (default: a temporary one)")
+    a = ap.parse_args()
+    driver = os.path.join(os.path.abspath(a.build_dir), "dem_coupling", "granflow-dem")
+    out = a.out or tempfile.mkdtemp(prefix="dem_fluid_bench_")
+    t = {}
+    for wet in (False, True):
+        for ranks in (1, 2):
+            name = f"{'wet' if wet else 'dry'}_{ranks}"
+            t[name] = min(run(driver, os.path.join(out, f"{name}_{r}"), wet, ranks, a.steps)
+                          for r in range(a.repeat))
+            print(f"{name}: {t[name]:.3f} s / 1000 steps", file=sys.stderr)
+    print("| case | 1 rank (s/1000 steps) | 2 ranks (s/1000 steps) | 2-rank speed-up |")
+    print("|---|---|---|---|")
+    for kind in ("dry", "wet"):
+        print(f"| {kind} | {t[kind + '_1']:.3f} | {t[kind + '_2']:.3f} | "
+              f"{t[kind + '_1'] / t[kind + '_2']:.2f} |")
+    print(f"\nwet/dry cost at equal N: 1 rank {t['wet_1'] / t['dry_1']:.2f}, "
+          f"2 ranks {t['wet_2'] / t['dry_2']:.2f}")
+
+
+if __name__ == "__main__":
+    main()
