@@ -23,7 +23,7 @@ constexpr double inf = std::numeric_limits<double>::infinity();
 inline double sign(double v) { return v > 0.0 ? 1.0 : (v < 0.0 ? -1.0 : 0.0); }
 }  // namespace
 
-double TimeStepLimits::critical() const { return std::min({wave, viscous, drag}); }
+double TimeStepLimits::critical() const { return std::min({wave, viscous, drag, conduction}); }
 
 SolverFailure::SolverFailure(long s, std::string pt, std::string var, double v,
                              const std::string& why)
@@ -121,6 +121,12 @@ void Solver::initialize() {
   nodes_.porosity.assign(nn_, 1.0);
   div_solid_.assign(liquid_.size(), 0.0);
   volumetric_rate_.assign(liquid_.size(), 0.0);
+  if (options_.temperature_conductivity > 0) {
+    nodal_temperature_.assign(nn_, 0.0);
+    heat_capacity_.assign(nn_, 0.0);
+    temperature_gradient_x_.assign(solid_.size(), 0.0);
+    temperature_gradient_y_.assign(solid_.size(), 0.0);
+  }
   liquid_cell_.assign(liquid_.size(), 0);
 
   // Material ranges: contiguous runs of the same index.
@@ -178,7 +184,7 @@ void Solver::initialize() {
 }
 
 TimeStepLimits Solver::compute_limits() const {
-  TimeStepLimits lim{inf, inf, inf};
+  TimeStepLimits lim{inf, inf, inf, inf};
   const double h = std::visit([](const auto& g) { return g.min_spacing(); }, grid_);
   const double s = options_.mass_scaling;
   const bool wet = liquid_.size() > 0;
@@ -217,6 +223,14 @@ TimeStepLimits Solver::compute_limits() const {
     lim.drag =
         2.0 * s /
         (max_beta * (1.0 / (n_of_max_beta * rho_w) + 1.0 / ((1.0 - n_of_max_beta) * rho_s_min)));
+  }
+  // Explicit conduction in 2D: κ_T Δt / (C h²) <= 1/4 with C = (3/2) ρ_s (1 - n).
+  if (options_.temperature_conductivity > 0) {
+    double C = inf;
+    for (std::size_t p = 0; p < solid_.size(); ++p) {
+      C = std::min(C, 1.5 * solid_.mass[p] / solid_.volume[p]);
+    }
+    if (std::isfinite(C)) lim.conduction = 0.25 * h * h * C / options_.temperature_conductivity;
   }
   return lim;
 }
@@ -278,6 +292,7 @@ void Solver::step_impl(const G& grid) {
     velocity_gradients<G, S>(grid, liquid_.size() > 0);
   }
   constitutive_update();
+  if (options_.temperature_conductivity > 0 && solid_.size() > 0) conduct_temperature<G, S>(grid);
   time_ += dt_;
   ++step_;
   if (options_.dt_update_interval > 0 && step_ % options_.dt_update_interval == 0) update_dt();
@@ -699,6 +714,84 @@ void Solver::velocity_gradients(const G& grid, bool liquid_extras) {
   grad(solid_, nodes_.vx_solid.data(), nodes_.vy_solid.data(), false);
   if (liquid_.size() > 0) {
     grad(liquid_, nodes_.vx_liquid.data(), nodes_.vy_liquid.data(), liquid_extras);
+  }
+}
+
+// Conduction of T among the solid points, seed section 5: T mapped to the nodes weighted by the
+// heat capacity (3/2) m (mass-weighted), nodal forward-Euler rate of
+//   (3/2) ρ_s (1 - n) DT/Dt = ∇·(κ_T ∇T)  (model.md §5, conduction term only),
+// weak form Q_a = -Σ_p V_p κ_T ∇N_a·∇T_p (insulated boundaries), and the nodal increments remapped
+// to the points with the shape functions (mass-averaged remap): Σ m T is conserved exactly.
+template <class G, ShapeKind S>
+void Solver::conduct_temperature(const G& grid) {
+  const int nn = nn_;
+  const double lx = options_.gimp_half_length_x, ly = options_.gimp_half_length_y;
+  const double kappa = options_.temperature_conductivity, dt = dt_;
+  SolidPoints& sp = solid_;
+  scatter(2, [&](double* acc, int t, int T) {
+    std::size_t b, e;
+    chunk(sp.size(), t, T, b, e);
+    Stencil st{};
+    for (std::size_t p = b; p < e; ++p) {
+      if (!grid.template stencil<S>(sp.x[p], sp.y[p], lx, ly, st)) continue;  // caught next map
+      const double c = 1.5 * sp.mass[p], cT = c * sp.temperature[p];
+      for (int k = 0; k < st.count; ++k) {
+        acc[st.node[k]] += st.N[k] * c;
+        acc[nn + st.node[k]] += st.N[k] * cT;
+      }
+    }
+  });
+  std::vector<double>& A = acc_;
+  std::vector<double>& nodal_T = nodal_temperature_;
+  std::vector<double>& capacity = heat_capacity_;
+  for (int a = 0; a < nn; ++a) {
+    capacity[a] = A[a];
+    nodal_T[a] = A[a] > 0 ? A[nn + a] / A[a] : 0.0;
+  }
+  const long np = static_cast<long>(sp.size());
+#pragma omp parallel num_threads(threads_) if (threads_ > 1)
+  {
+    Stencil st{};
+#pragma omp for schedule(static)
+    for (long p = 0; p < np; ++p) {
+      if (!grid.template stencil<S>(sp.x[p], sp.y[p], lx, ly, st)) continue;
+      double gx = 0, gy = 0;
+      for (int k = 0; k < st.count; ++k) {
+        gx += st.dNdx[k] * nodal_T[st.node[k]];
+        gy += st.dNdy[k] * nodal_T[st.node[k]];
+      }
+      temperature_gradient_x_[p] = gx;
+      temperature_gradient_y_[p] = gy;
+    }
+  }
+  scatter(1, [&](double* acc, int t, int T) {
+    std::size_t b, e;
+    chunk(sp.size(), t, T, b, e);
+    Stencil st{};
+    for (std::size_t p = b; p < e; ++p) {
+      if (!grid.template stencil<S>(sp.x[p], sp.y[p], lx, ly, st)) continue;
+      const double qx = kappa * temperature_gradient_x_[p] * sp.volume[p];
+      const double qy = kappa * temperature_gradient_y_[p] * sp.volume[p];
+      for (int k = 0; k < st.count; ++k) acc[st.node[k]] -= st.dNdx[k] * qx + st.dNdy[k] * qy;
+    }
+  });
+  for (int a = 0; a < nn; ++a) A[a] = capacity[a] > 0 ? dt * A[a] / capacity[a] : 0.0;  // ΔT_a
+  long negative = -1;
+#pragma omp parallel num_threads(threads_) if (threads_ > 1) reduction(max : negative)
+  {
+    Stencil st{};
+#pragma omp for schedule(static)
+    for (long p = 0; p < np; ++p) {
+      if (!grid.template stencil<S>(sp.x[p], sp.y[p], lx, ly, st)) continue;
+      double dT = 0;
+      for (int k = 0; k < st.count; ++k) dT += st.N[k] * A[st.node[k]];
+      sp.temperature[p] += dT;
+      if (!(sp.temperature[p] >= 0.0)) negative = std::max(negative, p);
+    }
+  }
+  if (negative >= 0) {
+    throw SolverFailure(step_ + 1, fmt::format("solid point {}", negative), "temperature",
+                        sp.temperature[negative], "negative or non-finite granular temperature");
   }
 }
 

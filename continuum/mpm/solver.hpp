@@ -51,6 +51,10 @@ struct SolverOptions {
   double mass_scaling = 1.0;  // inertial masses x this factor (gravity keeps the true mass)
   DragIntegration drag_integration = DragIntegration::semi_implicit;
   double gimp_half_length_x = 0.0, gimp_half_length_y = 0.0;  // GIMP particle half-sizes, m
+  // Conduction of the granular temperature among solid points (seed section 5): constant
+  // conductivity κ_T of q = -κ_T ∇T, kg/(m s); 0 = T only carried. (The multi-regime model's
+  // ρ_p d f4 T^½ will come through the material interface.)
+  double temperature_conductivity = 0.0;
   bool liquid_volumetric_smoothing = false;  // cell-averaged volumetric rate for p (linear)
   long dt_update_interval = 50;              // recompute the critical step every so many steps
   int threads = 0;                           // 0: OpenMP default
@@ -58,7 +62,7 @@ struct SolverOptions {
 
 // Critical time steps (before the CFL factor) of each mechanism, s; +inf when absent.
 struct TimeStepLimits {
-  double wave = 0, viscous = 0, drag = 0;
+  double wave = 0, viscous = 0, drag = 0, conduction = 0;
   double critical() const;
 };
 
@@ -146,6 +150,8 @@ class Solver {
   template <class G, ShapeKind S>
   void velocity_gradients(const G& grid, bool liquid_extras);
   void constitutive_update();
+  template <class G, ShapeKind S>
+  void conduct_temperature(const G& grid);
   template <class Body>
   void scatter(int fields, Body&& body);
   void solve_porosity_only();
@@ -186,7 +192,10 @@ class Solver {
   std::vector<double> asx_, asy_, alx_, aly_, porosity_;
   std::vector<double> div_solid_;  // tr(D_S) at the liquid points
   std::vector<double> volumetric_rate_;
-  std::vector<int> liquid_cell_;  // first node of the cell holding each liquid point
+  std::vector<int> liquid_cell_;
+  std::vector<double> temperature_gradient_x_, temperature_gradient_y_;
+  std::vector<double> nodal_temperature_,
+      heat_capacity_;  // first node of the cell holding each liquid point
   NodeFields nodes_;
 
   double dt_ = 0, time_ = 0;
