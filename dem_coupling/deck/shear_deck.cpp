@@ -203,7 +203,7 @@ unfix           gf_compress
 # ---- stage 2: Lees-Edwards simple shear u_x = gd (y - ylo): streaming profile + tilt rate
 velocity        all ramp vx 0 {vtop:.17g} y 0 {l1:.17g} units box sum yes
 fix             gf_shear all deform 1 xy erate {gd:.17g} remap v
-thermo          {sample}
+thermo          0                            # thermo (and the virial) at the end of each sampled chunk
 )",
       fmt::arg("dt_safety", p.dt_safety), fmt::arg("t_r", out.times.rayleigh),
       fmt::arg("t_h", out.times.hertz), fmt::arg("v_ref", reference_speed),
