@@ -332,8 +332,9 @@ void FixFluidLE::post_force(int /*vflag*/) {
     int** firstneigh = list->firstneigh;
     const double h_max = settings_.maximum_gap, h_min = settings_.minimum_gap;
     const bool tangential = settings_.tangential_lubrication;
-    double* wn = &acc[vec::lubrication_normal];
-    double* wt = &acc[vec::lubrication_tangential];
+    // Local accumulators (registers; the force arrays cannot alias them).
+    double wn[6] = {0, 0, 0, 0, 0, 0}, wt[6] = {0, 0, 0, 0, 0, 0};
+    double pair_count = 0.0, pair_dissipation = 0.0;
     // Flat views of the per-atom arrays (LAMMPS allocates each as one contiguous block), so a
     // neighbour costs one load per quantity instead of a pointer chase.
     const double* xf = x[0];
@@ -347,6 +348,9 @@ void FixFluidLE::post_force(int /*vflag*/) {
       if (!(mask[i] & groupbit)) continue;
       const double ri = radius[i];
       const double xi[3] = {xf[3 * i], xf[3 * i + 1], xf[3 * i + 2]};
+      const double vi[3] = {vf[3 * i], vf[3 * i + 1], vf[3 * i + 2]};
+      const double wi[3] = {ri * wf[3 * i], ri * wf[3 * i + 1], ri * wf[3 * i + 2]};  // r_i ω_i
+      double fi[3] = {0, 0, 0}, ti[3] = {0, 0, 0};  // applied to i after its neighbours
       // Most listed pairs are beyond h_max: reject them on the distance alone first.
       const double reach_any = ri + largest_radius_ + h_max;
       const double reach_any_sq = reach_any * reach_any;
@@ -366,8 +370,7 @@ void FixFluidLE::post_force(int /*vflag*/) {
         const double n[3] = {del[0] * inverse_r, del[1] * inverse_r,
                              del[2] * inverse_r};  // from j to i
         // Ghost velocities carry the Lees-Edwards shift (fix deform remap v).
-        const double dv[3] = {vf[3 * i] - vf[3 * j], vf[3 * i + 1] - vf[3 * j + 1],
-                              vf[3 * i + 2] - vf[3 * j + 2]};
+        const double dv[3] = {vi[0] - vf[3 * j], vi[1] - vf[3 * j + 1], vi[2] - vf[3 * j + 2]};
         const double vn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2];
         const PairLubrication resistance = pair_lubrication(eta, ri, rj, h, h_min, tangential);
         const double cn = resistance.normal;
@@ -376,9 +379,8 @@ void FixFluidLE::post_force(int /*vflag*/) {
         double dissipation = cn * vn * vn;
         if (tangential) {
           // relative surface velocity at the gap: v_ij - (r_i ω_i + r_j ω_j) × n
-          const double s[3] = {ri * wf[3 * i] + rj * wf[3 * j],
-                               ri * wf[3 * i + 1] + rj * wf[3 * j + 1],
-                               ri * wf[3 * i + 2] + rj * wf[3 * j + 2]};
+          const double s[3] = {wi[0] + rj * wf[3 * j], wi[1] + rj * wf[3 * j + 1],
+                               wi[2] + rj * wf[3 * j + 2]};
           const double vs[3] = {dv[0] - (s[1] * n[2] - s[2] * n[1]),
                                 dv[1] - (s[2] * n[0] - s[0] * n[2]),
                                 dv[2] - (s[0] * n[1] - s[1] * n[0])};
@@ -390,11 +392,11 @@ void FixFluidLE::post_force(int /*vflag*/) {
           // torque of F_t at the surface point -r_i n of i (and +r_j n with -F_t on j)
           const double nxF[3] = {n[1] * Ft[2] - n[2] * Ft[1], n[2] * Ft[0] - n[0] * Ft[2],
                                  n[0] * Ft[1] - n[1] * Ft[0]};
-          for (int a = 0; a < 3; ++a) tf[3 * i + a] -= ri * nxF[a];
+          for (int a = 0; a < 3; ++a) ti[a] -= ri * nxF[a];
           if (j < nlocal)
             for (int a = 0; a < 3; ++a) tf[3 * j + a] -= rj * nxF[a];
         }
-        for (int a = 0; a < 3; ++a) ff[3 * i + a] += Fn[a] + Ft[a];
+        for (int a = 0; a < 3; ++a) fi[a] += Fn[a] + Ft[a];
         if (j < nlocal)
           for (int a = 0; a < 3; ++a) ff[3 * j + a] -= Fn[a] + Ft[a];
         const double weight = j < nlocal ? 1.0 : 0.5;
@@ -410,10 +412,20 @@ void FixFluidLE::post_force(int /*vflag*/) {
         wt[3] += weight * del[0] * Ft[1];
         wt[4] += weight * del[0] * Ft[2];
         wt[5] += weight * del[1] * Ft[2];
-        acc[vec::lubricated_pairs] += weight;
-        acc[vec::lubrication_dissipation] += weight * dissipation;
+        pair_count += weight;
+        pair_dissipation += weight * dissipation;
+      }
+      for (int a = 0; a < 3; ++a) {
+        ff[3 * i + a] += fi[a];
+        tf[3 * i + a] += ti[a];
       }
     }
+    for (int k = 0; k < 6; ++k) {
+      acc[vec::lubrication_normal + k] = wn[k];
+      acc[vec::lubrication_tangential + k] = wt[k];
+    }
+    acc[vec::lubricated_pairs] = pair_count;
+    acc[vec::lubrication_dissipation] = pair_dissipation;
   }
 
   for (int k = 0; k < 6; ++k) {
