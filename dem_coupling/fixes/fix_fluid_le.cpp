@@ -2,11 +2,13 @@
 // the equations and their sources).
 #include "dem_coupling/fixes/fix_fluid_le.hpp"
 
+#include <fmt/format.h>
 #include <mpi.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
@@ -62,6 +64,7 @@ class FixFluidLE : public LAMMPS_NS::Fix {
   std::array<double, vec::size> local_{};   // this rank's sums (kinetic part filled on demand)
   std::array<double, vec::size> global_{};  // reduced over ranks
   LAMMPS_NS::bigint last_reduce_ = -1;
+  bool report_time_scales_ = true;  // set by init(), cleared by the first setup() after it
 };
 
 bool FixFluidLE::parse_yes_no(const char* keyword, const char* value) const {
@@ -163,6 +166,7 @@ FixFluidLE::FixFluidLE(LAMMPS_NS::LAMMPS* lmp, int narg, char** arg) : Fix(lmp, 
 }
 
 void FixFluidLE::init() {
+  report_time_scales_ = true;
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
     fail("fix fluid/le needs atom_style granular (radius, rmass, omega, torque)");
   if (settings_.lubrication) {
@@ -254,8 +258,24 @@ void FixFluidLE::setup(int vflag) {
   in.largest_radius = largest_radius_;
   in.solid_fraction = solid_volume_ / box_volume;
   if (!(in.solid_fraction < 1.0)) fail("fix fluid/le: solid fraction >= 1");
-  const std::string refusal = check_fluid_time_step(update->dt, fluid_time_scales(in));
+  const FluidTimeScales scales = fluid_time_scales(in);
+  const std::string refusal = check_fluid_time_step(update->dt, scales);
   if (!refusal.empty()) fail("fix fluid/le: " + refusal);
+  if (report_time_scales_ && comm->me == 0) {  // once per init: the limits and the step in use
+    const FluidTimeStep stable = stable_fluid_time_step(scales);
+    const std::string text = fmt::format(
+        "fix fluid/le: nu = {:.4g}, c_p/(3 pi eta d) = {:.4g}; time scales (s): drag {:.4g}, "
+        "rotational drag {:.4g}, normal lubrication {:.4g}, tangential lubrication {:.4g}; "
+        "dt = {:.4g} s (fluid-limited stable dt {:.4g} s, set by {})\n",
+        in.solid_fraction,
+        model::particle_drag_coefficient(settings_.liquid, 1.0, in.solid_fraction) /
+            (3.0 * pi * settings_.liquid.viscosity),
+        scales.drag, scales.rotational_drag, scales.normal_lubrication,
+        scales.tangential_lubrication, update->dt, stable.dt, stable.limited_by);
+    if (screen) std::fputs(text.c_str(), screen);
+    if (logfile) std::fputs(text.c_str(), logfile);
+  }
+  report_time_scales_ = false;
   post_force(vflag);
 }
 
