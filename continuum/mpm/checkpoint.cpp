@@ -68,6 +68,10 @@ void write_checkpoint(const std::filesystem::path& file, const Solver& solver) {
   put(g, "material", material);
   H5::Group l = f.createGroup("/liquid");
   for (auto& [name, v] : fields(s.liquid())) put(l, name, *v);
+  for (int k = 0; k < s.materials(); ++k) {
+    H5::Group m = f.createGroup("/material_" + std::to_string(k));
+    for (auto& [name, v] : s.material_state(k)) put(m, name, *v);
+  }
 }
 
 void read_checkpoint(const std::filesystem::path& file, Solver& s) {
@@ -79,6 +83,12 @@ void read_checkpoint(const std::filesystem::path& file, Solver& s) {
   for (auto& [name, v] : fields(s.solid())) get(g, name, *v);
   H5::Group l = f.openGroup("/liquid");
   for (auto& [name, v] : fields(s.liquid())) get(l, name, *v);
+  for (int k = 0; k < s.materials(); ++k) {
+    auto state = s.material_state(k);
+    if (state.empty()) continue;
+    H5::Group m = f.openGroup("/material_" + std::to_string(k));
+    for (auto& [name, v] : state) get(m, name, *v);
+  }
   s.set_clock(c[0], static_cast<long>(c[1]), c[2]);
 }
 

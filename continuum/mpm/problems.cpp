@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "continuum/mpm/analytic.hpp"
-#include "continuum/mpm/linear_elastic.hpp"
 #include "continuum/mpm/setup.hpp"
+#include "continuum/mpm/solid_material.hpp"
 
 namespace granflow::mpm {
 
@@ -34,8 +34,10 @@ std::unique_ptr<Solver> make_elastic_column(const ColumnSpec& c) {
     o.gimp_half_length_x = o.gimp_half_length_y = 0.5 * c.cell / c.points_per_cell;
   }
   auto s = std::make_unique<Solver>(g, o);
-  const int mat =
-      s->add_material(std::make_unique<LinearElastic>(c.young_modulus, c.poisson_ratio, c.density));
+  const int mat = s->add_material(
+      default_material_registry().create("linear_elastic", {{"young_modulus", c.young_modulus},
+                                                            {"poisson_ratio", c.poisson_ratio},
+                                                            {"density", c.density}}));
   add_solid_rectangle(
       *s, {0.0, 0.0, c.width, c.height, nx * c.points_per_cell, ny * c.points_per_cell}, mat, 0.0);
   box_conditions(*s, g, Phase::solid);
@@ -103,7 +105,9 @@ std::unique_ptr<Solver> make_terzaghi(const TerzaghiSpec& t) {
   l.darcy_gravity = t.gravity_for_darcy;
   auto s = std::make_unique<Solver>(g, o, l);
   const int mat = s->add_material(
-      std::make_unique<LinearElastic>(t.young_modulus, t.poisson_ratio, t.grain_density));
+      default_material_registry().create("linear_elastic", {{"young_modulus", t.young_modulus},
+                                                            {"poisson_ratio", t.poisson_ratio},
+                                                            {"density", t.grain_density}}));
   const TerzaghiConstants k = terzaghi_constants(t);
   const Rectangle r{0.0, 0.0, t.width, t.height, nx * t.points_per_cell, ny * t.points_per_cell};
   const double p0 = t.undrained_start ? k.p0 : 0.0;

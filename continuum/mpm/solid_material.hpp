@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace granflow::mpm {
@@ -42,6 +43,9 @@ class SolidMaterial {
   }
   // Update the stress of all its points for a step dt, given L at the points.
   virtual void update_stress(const StressUpdateView& view, double dt) = 0;
+  // Internal state arrays (one value per point of the range), by name, for checkpoint/restart
+  // and field output; none for a material without history.
+  virtual std::vector<std::pair<std::string, std::vector<double>*>> state() { return {}; }
   std::size_t begin() const { return begin_; }
   std::size_t end() const { return end_; }
 

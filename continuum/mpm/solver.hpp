@@ -101,6 +101,9 @@ class Solver {
   int add_material(std::unique_ptr<SolidMaterial> material);
   const SolidMaterial& material(int k) const { return *materials_[k]; }
   int materials() const { return static_cast<int>(materials_.size()); }
+  std::vector<std::pair<std::string, std::vector<double>*>> material_state(int k) {
+    return materials_[k]->state();
+  }
 
   // Prescribe a velocity component (0: x or r, 1: y or θ) of a phase at a node, reaching
   // `value` linearly over `ramp_time` (0: at once).
