@@ -93,6 +93,8 @@ std::unique_ptr<Solver> make_terzaghi(const TerzaghiSpec& t) {
   if (o.shape == ShapeKind::gimp) {
     o.gimp_half_length_x = o.gimp_half_length_y = 0.5 * t.cell / t.points_per_cell;
   }
+  o.gravity_x = 0.0;
+  o.gravity_y = -t.gravity;
   LiquidOptions l;
   l.density = t.liquid_density;
   l.bulk_modulus = t.bulk_modulus;
@@ -118,7 +120,7 @@ std::unique_ptr<Solver> make_terzaghi(const TerzaghiSpec& t) {
   box_conditions(*s, g, Phase::solid);
   box_conditions(*s, g, Phase::liquid);
   // Load q on the top surface y = H: nodal forces q x tributary length on the solid.
-  for (int i = 0; i <= nx; ++i) {
+  for (int i = 0; i <= nx && t.load != 0.0; ++i) {
     const double share = (i == 0 || i == nx) ? 0.5 * t.cell : t.cell;
     s->add_nodal_force(Phase::solid, g.node(i, ny), 0.0, -t.load * share);
   }
@@ -139,6 +141,28 @@ double terzaghi_pressure_error(const Solver& solver, const TerzaghiSpec& t) {
     ++n;
   }
   return n ? std::sqrt(e / n) / k.p0 : 0.0;
+}
+
+void hydrostatic_error(const Solver& solver, const TerzaghiSpec& t, double& pressure,
+                       double& effective_stress) {
+  const double scale = t.liquid_density * t.gravity * t.height;
+  double ep = 0, es = 0;
+  int np = 0;
+  for (std::size_t i = 0; i < solver.liquid().size(); ++i) {
+    const double y = solver.liquid().y[i];
+    if (y > t.height) continue;  // liquid above the surface (none at rest)
+    const double pa = t.liquid_density * t.gravity * (t.height - y);
+    ep += (solver.liquid().pressure[i] - pa) * (solver.liquid().pressure[i] - pa);
+    ++np;
+  }
+  const SolidPoints& s = solver.solid();
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const double sa =
+        -(1 - t.porosity) * (t.grain_density - t.liquid_density) * t.gravity * (t.height - s.y0[i]);
+    es += (s.syy[i] - sa) * (s.syy[i] - sa);
+  }
+  pressure = std::sqrt(ep / std::max(np, 1)) / scale;
+  effective_stress = std::sqrt(es / std::max<std::size_t>(s.size(), 1)) / scale;
 }
 
 void terzaghi_settlement(const Solver& solver, const TerzaghiSpec& t, double& computed,

@@ -43,6 +43,7 @@ struct TerzaghiSpec {
   double grain_diameter = 1e-3;
   model::LiquidParameters closure;
   double load = 1.0e4;
+  double gravity = 0.0;  // m/s² (0 for Terzaghi; > 0 for the hydrostatic/buoyancy check)
   bool undrained_start = true;
   SolverOptions options;
 };
@@ -54,6 +55,11 @@ struct TerzaghiConstants {
 TerzaghiConstants terzaghi_constants(const TerzaghiSpec& spec);
 // RMS of (p - p_exact) over the liquid points inside the layer, divided by p0.
 double terzaghi_pressure_error(const Solver& solver, const TerzaghiSpec& spec);
+// Saturated column at rest under gravity (load 0): RMS errors against the hydrostatic pore
+// pressure p = ρ_w g (H - y) and the buoyant effective stress σ'_yy = -(1-n)(ρ_s-ρ_w) g (H - y0),
+// both divided by ρ_w g H.
+void hydrostatic_error(const Solver& solver, const TerzaghiSpec& spec, double& pressure,
+                       double& effective_stress);
 // Mean settlement of the top row of solid points, m (positive down), and its exact value.
 void terzaghi_settlement(const Solver& solver, const TerzaghiSpec& spec, double& computed,
                          double& exact);
