@@ -415,11 +415,15 @@ void Solver::map_first(const G& grid) {
 void Solver::lost_point(Phase phase, long index) const {
   const PointFields& p = phase == Phase::solid ? static_cast<const PointFields&>(solid_)
                                                : static_cast<const PointFields&>(liquid_);
-  throw SolverFailure(
-      step_,
-      fmt::format("{} point {} at ({}, {})", phase == Phase::solid ? "solid" : "liquid", index,
-                  p.x[index], p.y[index]),
-      "position", p.x[index], "left the background grid (lost point)");
+  const double x = p.x[index], y = p.y[index];
+  const bool finite = std::isfinite(x) && std::isfinite(y);
+  throw SolverFailure(step_ + 1,
+                      fmt::format("{} point {} at ({}, {})",
+                                  phase == Phase::solid ? "solid" : "liquid", index, x, y),
+                      "position", finite ? x : (std::isfinite(x) ? y : x),
+                      finite ? "left the background grid (lost point)"
+                             : "non-finite position (a NaN/Inf upstream: stress, pressure or "
+                               "velocity)");
 }
 
 void Solver::solve_porosity_only() {

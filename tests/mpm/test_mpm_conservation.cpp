@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <memory>
+#include <string>
 
 #include "continuum/mpm/linear_elastic.hpp"
 #include "continuum/mpm/setup.hpp"
@@ -119,15 +121,40 @@ TEST(MpmConservation, TwoThreadsReproduceOneThread) {
   auto one = free_block(DragIntegration::semi_implicit, UpdateScheme::musl, 9.81, 1);
   auto two = free_block(DragIntegration::semi_implicit, UpdateScheme::musl, 9.81, 2);
   auto again = free_block(DragIntegration::semi_implicit, UpdateScheme::musl, 9.81, 2);
-  one->run_steps(100);
-  two->run_steps(100);
-  again->run_steps(100);
+  one->run_steps(40);
+  two->run_steps(40);
+  again->run_steps(40);
   for (std::size_t p = 0; p < one->liquid().size(); ++p) {
-    // Only the order of the nodal sums differs: agreement to round-off growth over 100 steps.
+    // Only the order of the nodal sums differs: agreement to round-off growth over 40 steps.
     EXPECT_NEAR(two->liquid().pressure[p], one->liquid().pressure[p], 1e-6);
     EXPECT_NEAR(two->solid().sxx[p], one->solid().sxx[p], 1e-6);
     // Same thread count: bit-for-bit (fixed chunking and fixed reduction order).
     EXPECT_EQ(again->liquid().pressure[p], two->liquid().pressure[p]);
     EXPECT_EQ(again->solid().x[p], two->solid().x[p]);
+  }
+}
+
+TEST(MpmFailures, LostPointAndNonFiniteStressStopWithStepPointAndVariable) {
+  auto s = free_block(DragIntegration::semi_implicit, UpdateScheme::musl, 0.0, 1);
+  // Throw the whole block to the left: at 100 m/s it leaves the 2 m grid within ~30 steps.
+  for (auto& v : s->solid().vx) v = -100.0;
+  for (auto& v : s->liquid().vx) v = -100.0;
+  try {
+    s->run_steps(200);
+    FAIL() << "a point that left the grid was not reported";
+  } catch (const SolverFailure& f) {
+    EXPECT_GT(f.step, 0);
+    EXPECT_NE(f.point.find("point"), std::string::npos) << f.what();
+    EXPECT_EQ(f.variable, "position");
+    EXPECT_NE(std::string(f.what()).find("lost point"), std::string::npos);
+  }
+  auto t = free_block(DragIntegration::semi_implicit, UpdateScheme::musl, 0.0, 1);
+  t->solid().sxx[5] = std::numeric_limits<double>::quiet_NaN();
+  try {
+    t->run_steps(5);
+    FAIL() << "a NaN stress was not reported";
+  } catch (const SolverFailure& f) {
+    EXPECT_EQ(f.step, 1);
+    EXPECT_NE(f.what(), std::string());
   }
 }
