@@ -74,8 +74,11 @@ core::Schema shear_schema() {
   control.number("normal_stress", "Pa", "imposed normal stress σ_yy (constant_pressure)")
       .greater_than(0)
       .sweepable();
-  control.number("servo_gain", "", "relative height change per relative stress error")
-      .default_value("0.01")
+  control
+      .number("servo_gain", "",
+              "relative height change per relative stress error; default 0.1 × I_target "
+              "(I_target = γ̇ d / sqrt(σ_yy/ρ_p)) within [1e-4, 0.02], since the loop gain is "
+              "gain × d ln σ/d ln φ ≈ gain × 2φ/(φ_c - φ) and φ_c - φ ∝ I")
       .greater_than(0);
   control.number("servo_max_strain", "", "largest relative height change per servo update")
       .default_value("0.002")
@@ -118,11 +121,20 @@ ShearDeckParams read_shear_params(const core::Case& c) {
   p.compression_steps = c.integer("dem.compression_steps");
   p.constant_pressure = c.string("control.mode") == "constant_pressure";
   p.solid_fraction = c.number("control.solid_fraction");
+  p.shear_rate = c.number("shear_rate");  // before the servo gain, which depends on it
   if (c.has("control.normal_stress")) p.normal_stress = c.number("control.normal_stress");
-  p.servo_gain = c.number("control.servo_gain");
+  if (c.has("control.servo_gain")) {
+    p.servo_gain = c.number("control.servo_gain");
+  } else if (p.constant_pressure) {
+    // Dense flow: phi_c - phi ≈ a I, so d ln sigma / d ln phi ≈ 2 phi / (a I) ~ 2.4 / I. A loop
+    // gain ≈ 0.25 (over-damped integral control) needs gain ≈ 0.1 I (0.01 at I = 0.1, the value
+    // of liggghts-study.md; 0.01 at I = 0.01 made sigma_yy oscillate at twice the target).
+    const double target_inertial =
+        p.shear_rate * m.diameter / std::sqrt(p.normal_stress / m.particle_density);
+    p.servo_gain = std::clamp(0.1 * target_inertial, 1e-4, 0.02);
+  }
   p.servo_max_strain = c.number("control.servo_max_strain");
   p.servo_strain = c.number("control.servo_strain");
-  p.shear_rate = c.number("shear_rate");
   p.total_strain = c.number("strain.total");
   p.sample_strain = c.number("strain.sample");
   p.profile_bins = static_cast<int>(c.integer("output.profile_bins"));
@@ -307,6 +319,10 @@ int run_shear(core::RunContext& ctx) {
         "t_Hertz {:.4g} s at {:.3g} m/s), {} shear steps ({} per sample)",
         label, p.particles, p.shear_rate, deck.dt, p.dt_safety, deck.times.rayleigh,
         deck.times.hertz, deck.times.reference_speed, deck.total_steps, deck.sample_every);
+    if (p.constant_pressure)
+      ctx.log->info(
+          "{}: servo to σ_yy = {:g} Pa, gain {:g}, every {} steps (at most {:g} per update)", label,
+          p.normal_stress, p.servo_gain, deck.servo_every, p.servo_max_strain);
     ctx.log->info("{}: rerun by hand: cd {} && {} > liggghts.out", label, dir.string(),
                   shell_line(command));
     core::Progress strain_progress(ctx.log, label + " strain", p.total_strain, 10.0);
@@ -330,9 +346,12 @@ int run_shear(core::RunContext& ctx) {
                      error.empty() ? "(no ERROR line)" : error);
       ctx.log->error("{}: full output in {}; the samples written so far are in result.h5", label,
                      (dir / "liggghts.out").string());
-      code = status == 3 ? core::exit_numerical : core::exit_external;
+      // The other points of a sweep still run; the exit code reports the failure.
+      if (code == core::exit_ok) code = status == 3 ? core::exit_numerical : core::exit_external;
+      r.values.clear();
       results.push_back(r);
-      break;
+      progress.update(double(n + 1));
+      continue;
     }
     const std::string suffix = sweep ? fmt::format(".{}", n) : "";
     for (const auto& [name, value] : r.values) ctx.summary.set("steady." + name + suffix, value);

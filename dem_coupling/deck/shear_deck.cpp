@@ -176,6 +176,9 @@ boundary        p p p
 newton          off
 communicate     single vel yes
 units           si
+# fix deform flips the box only at re-neighbouring, so |xy| may exceed Lx/2 for a few steps;
+# allow that when the servo's change_box re-checks the box (error otherwise)
+box             tilt large
 read_data       {data}
 neighbor        {skin:.17g} bin
 neigh_modify    delay 0

@@ -15,6 +15,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "atom.h"
 #include "comm.h"
@@ -64,7 +65,9 @@ class FixFluidLE : public LAMMPS_NS::Fix {
   std::array<double, vec::size> local_{};   // this rank's sums (kinetic part filled on demand)
   std::array<double, vec::size> global_{};  // reduced over ranks
   LAMMPS_NS::bigint last_reduce_ = -1;
-  bool report_time_scales_ = true;  // set by init(), cleared by the first setup() after it
+  bool report_time_scales_ = true;
+  std::vector<int> pair_i_, pair_j_;  // this step's pairs within h_max (grow-only buffers)  // set
+                                      // by init(), cleared by the first setup() after it
 };
 
 bool FixFluidLE::parse_yes_no(const char* keyword, const char* value) const {
@@ -363,82 +366,92 @@ void FixFluidLE::post_force(int /*vflag*/) {
     double* ff = f[0];
     double* tf = torque[0];
     const bool whole_system = groupbit == 1;  // group all: every atom (and ghost) is in it
+    // Pass 1: the listed pairs within h_max (most listed pairs are not), compacted without a
+    // data-dependent branch; pass 2 then runs the sqrt/div/log of the pairs back to back.
+    std::size_t candidates = 0;
     for (int ii = 0; ii < inum; ++ii) {
       const int i = ilist[ii];
       if (!(mask[i] & groupbit)) continue;
-      const double ri = radius[i];
+      const int count = numneigh[i];
+      if (candidates + count > pair_i_.size()) {  // grows with the list, not in steady state
+        pair_i_.resize(2 * (candidates + count));
+        pair_j_.resize(2 * (candidates + count));
+      }
+      const double ri_reach = radius[i] + h_max;
       const double xi[3] = {xf[3 * i], xf[3 * i + 1], xf[3 * i + 2]};
-      const double vi[3] = {vf[3 * i], vf[3 * i + 1], vf[3 * i + 2]};
-      const double wi[3] = {ri * wf[3 * i], ri * wf[3 * i + 1], ri * wf[3 * i + 2]};  // r_i ω_i
-      double fi[3] = {0, 0, 0}, ti[3] = {0, 0, 0};  // applied to i after its neighbours
-      // Most listed pairs are beyond h_max: reject them on the distance alone first.
-      const double reach_any = ri + largest_radius_ + h_max;
-      const double reach_any_sq = reach_any * reach_any;
       const int* jlist = firstneigh[i];
-      for (int jj = 0; jj < numneigh[i]; ++jj) {
+      int* out_i = pair_i_.data();
+      int* out_j = pair_j_.data();
+      for (int jj = 0; jj < count; ++jj) {
         const int j = jlist[jj] & NEIGHMASK;
         const double del[3] = {xi[0] - xf[3 * j], xi[1] - xf[3 * j + 1], xi[2] - xf[3 * j + 2]};
         const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
-        if (rsq >= reach_any_sq) continue;
-        if (!whole_system && !(mask[j] & groupbit)) continue;
-        const double rj = radius[j];
-        const double reach = ri + rj + h_max;
-        if (rsq >= reach * reach) continue;
-        const double r = std::sqrt(rsq);
-        const double h = r - ri - rj;
-        const double inverse_r = 1.0 / r;
-        const double n[3] = {del[0] * inverse_r, del[1] * inverse_r,
-                             del[2] * inverse_r};  // from j to i
-        // Ghost velocities carry the Lees-Edwards shift (fix deform remap v).
-        const double dv[3] = {vi[0] - vf[3 * j], vi[1] - vf[3 * j + 1], vi[2] - vf[3 * j + 2]};
-        const double vn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2];
-        const PairLubrication resistance = pair_lubrication(eta, ri, rj, h, h_min, tangential);
-        const double cn = resistance.normal;
-        double Fn[3] = {-cn * vn * n[0], -cn * vn * n[1], -cn * vn * n[2]};
-        double Ft[3] = {0.0, 0.0, 0.0};
-        double dissipation = cn * vn * vn;
-        if (tangential) {
-          // relative surface velocity at the gap: v_ij - (r_i ω_i + r_j ω_j) × n
-          const double s[3] = {wi[0] + rj * wf[3 * j], wi[1] + rj * wf[3 * j + 1],
-                               wi[2] + rj * wf[3 * j + 2]};
-          const double vs[3] = {dv[0] - (s[1] * n[2] - s[2] * n[1]),
-                                dv[1] - (s[2] * n[0] - s[0] * n[2]),
-                                dv[2] - (s[0] * n[1] - s[1] * n[0])};
-          const double vsn = vs[0] * n[0] + vs[1] * n[1] + vs[2] * n[2];
-          const double vt[3] = {vs[0] - vsn * n[0], vs[1] - vsn * n[1], vs[2] - vsn * n[2]};
-          const double ct = resistance.tangential;
-          for (int a = 0; a < 3; ++a) Ft[a] = -ct * vt[a];
-          dissipation += ct * (vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
-          // torque of F_t at the surface point -r_i n of i (and +r_j n with -F_t on j)
-          const double nxF[3] = {n[1] * Ft[2] - n[2] * Ft[1], n[2] * Ft[0] - n[0] * Ft[2],
-                                 n[0] * Ft[1] - n[1] * Ft[0]};
-          for (int a = 0; a < 3; ++a) ti[a] -= ri * nxF[a];
-          if (j < nlocal)
-            for (int a = 0; a < 3; ++a) tf[3 * j + a] -= rj * nxF[a];
-        }
-        for (int a = 0; a < 3; ++a) fi[a] += Fn[a] + Ft[a];
-        if (j < nlocal)
-          for (int a = 0; a < 3; ++a) ff[3 * j + a] -= Fn[a] + Ft[a];
-        const double weight = j < nlocal ? 1.0 : 0.5;
-        wn[0] += weight * del[0] * Fn[0];
-        wn[1] += weight * del[1] * Fn[1];
-        wn[2] += weight * del[2] * Fn[2];
-        wn[3] += weight * del[0] * Fn[1];
-        wn[4] += weight * del[0] * Fn[2];
-        wn[5] += weight * del[1] * Fn[2];
-        wt[0] += weight * del[0] * Ft[0];
-        wt[1] += weight * del[1] * Ft[1];
-        wt[2] += weight * del[2] * Ft[2];
-        wt[3] += weight * del[0] * Ft[1];
-        wt[4] += weight * del[0] * Ft[2];
-        wt[5] += weight * del[1] * Ft[2];
-        pair_count += weight;
-        pair_dissipation += weight * dissipation;
+        const double reach = ri_reach + radius[j];
+        out_i[candidates] = i;
+        out_j[candidates] = j;
+        const bool in_group = whole_system || (mask[j] & groupbit);
+        candidates += (rsq < reach * reach) & in_group;
       }
-      for (int a = 0; a < 3; ++a) {
-        ff[3 * i + a] += fi[a];
-        tf[3 * i + a] += ti[a];
+    }
+    // Pass 2: the forces of the lubricated pairs.
+    for (std::size_t p = 0; p < candidates; ++p) {
+      const int i = pair_i_[p], j = pair_j_[p];
+      const double ri = radius[i], rj = radius[j];
+      const double del[3] = {xf[3 * i] - xf[3 * j], xf[3 * i + 1] - xf[3 * j + 1],
+                             xf[3 * i + 2] - xf[3 * j + 2]};
+      const double r = std::sqrt(del[0] * del[0] + del[1] * del[1] + del[2] * del[2]);
+      const double h = r - ri - rj;
+      const double inverse_r = 1.0 / r;
+      const double n[3] = {del[0] * inverse_r, del[1] * inverse_r,
+                           del[2] * inverse_r};  // from j to i
+      // Ghost velocities carry the Lees-Edwards shift (fix deform remap v).
+      const double dv[3] = {vf[3 * i] - vf[3 * j], vf[3 * i + 1] - vf[3 * j + 1],
+                            vf[3 * i + 2] - vf[3 * j + 2]};
+      const double vn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2];
+      const PairLubrication resistance = pair_lubrication(eta, ri, rj, h, h_min, tangential);
+      const double cn = resistance.normal;
+      const double Fn[3] = {-cn * vn * n[0], -cn * vn * n[1], -cn * vn * n[2]};
+      double Ft[3] = {0.0, 0.0, 0.0};
+      double dissipation = cn * vn * vn;
+      const bool j_owned = j < nlocal;
+      if (tangential) {
+        // relative surface velocity at the gap: v_ij - (r_i ω_i + r_j ω_j) × n
+        const double s[3] = {ri * wf[3 * i] + rj * wf[3 * j],
+                             ri * wf[3 * i + 1] + rj * wf[3 * j + 1],
+                             ri * wf[3 * i + 2] + rj * wf[3 * j + 2]};
+        const double vs[3] = {dv[0] - (s[1] * n[2] - s[2] * n[1]),
+                              dv[1] - (s[2] * n[0] - s[0] * n[2]),
+                              dv[2] - (s[0] * n[1] - s[1] * n[0])};
+        const double vsn = vs[0] * n[0] + vs[1] * n[1] + vs[2] * n[2];
+        const double vt[3] = {vs[0] - vsn * n[0], vs[1] - vsn * n[1], vs[2] - vsn * n[2]};
+        const double ct = resistance.tangential;
+        for (int a = 0; a < 3; ++a) Ft[a] = -ct * vt[a];
+        dissipation += ct * (vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
+        // torque of F_t at the surface point -r_i n of i (and +r_j n with -F_t on j)
+        const double nxF[3] = {n[1] * Ft[2] - n[2] * Ft[1], n[2] * Ft[0] - n[0] * Ft[2],
+                               n[0] * Ft[1] - n[1] * Ft[0]};
+        for (int a = 0; a < 3; ++a) tf[3 * i + a] -= ri * nxF[a];
+        if (j_owned)
+          for (int a = 0; a < 3; ++a) tf[3 * j + a] -= rj * nxF[a];
       }
+      for (int a = 0; a < 3; ++a) ff[3 * i + a] += Fn[a] + Ft[a];
+      if (j_owned)
+        for (int a = 0; a < 3; ++a) ff[3 * j + a] -= Fn[a] + Ft[a];
+      const double weight = j_owned ? 1.0 : 0.5;
+      wn[0] += weight * del[0] * Fn[0];
+      wn[1] += weight * del[1] * Fn[1];
+      wn[2] += weight * del[2] * Fn[2];
+      wn[3] += weight * del[0] * Fn[1];
+      wn[4] += weight * del[0] * Fn[2];
+      wn[5] += weight * del[1] * Fn[2];
+      wt[0] += weight * del[0] * Ft[0];
+      wt[1] += weight * del[1] * Ft[1];
+      wt[2] += weight * del[2] * Ft[2];
+      wt[3] += weight * del[0] * Ft[1];
+      wt[4] += weight * del[0] * Ft[2];
+      wt[5] += weight * del[1] * Ft[2];
+      pair_count += weight;
+      pair_dissipation += weight * dissipation;
     }
     for (int k = 0; k < 6; ++k) {
       acc[vec::lubrication_normal + k] = wn[k];
