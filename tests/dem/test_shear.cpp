@@ -127,6 +127,32 @@ TEST(DemShear, OneAndTwoRanksAgree) {
   }
 }
 
+TEST(DemShear, ServoHoldsTheNormalStress) {
+  // Constant normal stress p0 = 100 Pa at gd = 50 1/s (I ~ 0.25), starting from phi = 0.50: the
+  // servo must compact the sample (phi rises) and hold sigma_yy near p0 after the transient.
+  auto p = dense_case();
+  p.constant_pressure = true;
+  p.normal_stress = 100.0;
+  p.servo_gain = 0.02;
+  p.servo_strain = 0.05;
+  p.solid_fraction = 0.50;
+  p.total_strain = 6.0;
+  const auto run = run_case("servo", p);
+  ASSERT_EQ(run.status, 0) << run.output;
+  const auto& sigma = run.series.at("sigma_yy");
+  const auto& phi = run.series.at("phi");
+  const std::size_t start = sigma.size() / 2;  // strain >= 3
+  const auto e = granflow::analysis::batch_means(std::span(sigma).subspan(start), 10);
+  // 300 particles: sigma_yy fluctuates by ~30 % per sample; the mean over 3 strain units has a
+  // standard error of a few %. A working servo is within 4 standard errors + 10 % (the integral
+  // controller's small bias from the convex sigma(phi)); without it sigma_yy stays ~10x off.
+  EXPECT_LT(std::abs(e.mean / p.normal_stress - 1.0), 0.10 + 4.0 * e.standard_error / e.mean)
+      << e.mean << " +- " << e.standard_error;
+  EXPECT_GT(phi.back(), 0.52);
+  // Constant volume would keep L_y; the servo moved it.
+  EXPECT_NE(run.series.at("ly").front(), run.series.at("ly").back());
+}
+
 TEST(DemShear, LiggghtsErrorIsSurfacedWithItsMessage) {
   // A deck error (unknown style): LIGGGHTS' own message, non-zero exit.
   const auto dir = fresh_directory("deck_error");
