@@ -7,8 +7,11 @@ dt = 4e-6 s), once dry and once with `fix fluid/le` (drag + rotation + normal an
 lubrication, eta = 0.01 Pa s, h_max = 50 um, h_min = 1 um), on 1 and 2 MPI ranks, and reads the
 shear-stage wall time (driver_stats.tsv: liggghts_s, the LIGGGHTS part of the shear stage).
 
-usage: bench/dem_fluid_bench.py BUILD_DIR [--steps N] [--repeat R] [--out DIR]
+usage: bench/dem_fluid_bench.py BUILD_DIR [--steps N] [--repeat R] [--out DIR] [--breakdown]
 Prints a markdown table (s per 1000 steps; wet/dry ratio; speed-up) for docs/performance-dem_fluid.md.
+--breakdown adds LIGGGHTS' own timing split (Pair / Neigh / Comm / Other, 1 rank, one
+uninterrupted `run` inside the deck) for: dry; dry with the wet neighbour-list reach
+(contact_distance_factor 1.0556 = 1 + h_max/d_small); drag + rotational drag only; all forces.
 """
 import argparse
 import os
@@ -94,12 +97,46 @@ def run(driver, workdir, wet, ranks, steps):
     return float(stats["liggghts_s"]) / steps * 1000.0  # s per 1000 steps
 
 
+BREAKDOWN = {
+    "dry": "",
+    "dry + list reach of the wet run": "neigh_modify delay 0 contact_distance_factor 1.0556",
+    "drag + rotational drag only": ("fix fluid all fluid/le viscosity 0.01 permeability seed_eq26 "
+                                    "drag yes rotation yes"),
+    "all fluid forces": FLUID,
+}
+
+
+def breakdown(driver, workdir, steps):
+    """LIGGGHTS timing split of one uninterrupted shear run per variant (ms per step)."""
+    rows = []
+    for name, fluid in BREAKDOWN.items():
+        d = os.path.join(workdir, "breakdown_" + str(len(rows)))
+        os.makedirs(d, exist_ok=True)
+        with open(os.path.join(d, "in.bench"), "w") as f:
+            f.write(DECK.format(steps=100, sample=100, fluid=fluid) + f"run {steps}\n")
+        subprocess.run([driver, "in.bench", "-log", "log.txt", "-screen", "none"], cwd=d,
+                       check=True, stdout=subprocess.DEVNULL)
+        text = open(os.path.join(d, "log.txt"), errors="replace").read()
+        block = text[text.index(f"for {steps} steps"):]
+        times = {}
+        for key in ("Pair", "Neigh", "Comm", "Other"):
+            line = next(l for l in block.splitlines() if l.startswith(key + " "))
+            times[key] = float(line.split("=")[1].split()[0]) / steps * 1e3
+        rows.append((name, times))
+    print("\n| variant (1 rank) | Pair | Neigh | Comm | Other (fixes) | total (ms/step) |")
+    print("|---|---|---|---|---|---|")
+    for name, t in rows:
+        print(f"| {name} | {t['Pair']:.3f} | {t['Neigh']:.3f} | {t['Comm']:.3f} | "
+              f"{t['Other']:.3f} | {sum(t.values()):.3f} |")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("build_dir")
     ap.add_argument("--steps", type=int, default=5000)
     ap.add_argument("--repeat", type=int, default=1, help="best of R runs per configuration")
     ap.add_argument("--out", default=None, help="work directory (default: a temporary one)")
+    ap.add_argument("--breakdown", action="store_true", help="add the LIGGGHTS timing split")
     a = ap.parse_args()
     driver = os.path.join(os.path.abspath(a.build_dir), "dem_coupling", "granflow-dem")
     out = a.out or tempfile.mkdtemp(prefix="dem_fluid_bench_")
@@ -117,6 +154,8 @@ def main():
               f"{t[kind + '_1'] / t[kind + '_2']:.2f} |")
     print(f"\nwet/dry cost at equal N: 1 rank {t['wet_1'] / t['dry_1']:.2f}, "
           f"2 ranks {t['wet_2'] / t['dry_2']:.2f}")
+    if a.breakdown:
+        breakdown(driver, out, a.steps)
 
 
 if __name__ == "__main__":
