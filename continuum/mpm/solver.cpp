@@ -114,6 +114,18 @@ void Solver::initialize() {
   if (threads_ > 1) scratch_.assign(static_cast<std::size_t>(NF) * nn_ * threads_, 0.0);
   for (auto* v : {&asx_, &asy_, &alx_, &aly_}) v->assign(nn_, 0.0);
   porosity_.assign(nn_, 1.0);
+  if (std::holds_alternative<PolarGrid>(grid_)) {
+    for (int phase = 0; phase < 2; ++phase) {
+      const std::size_t n = phase == 0 ? solid_.size() : liquid_.size();
+      StencilCache& c = cache_[phase];
+      c.count.assign(n, 0);
+      c.node.assign(n, {});
+      c.N.assign(n, {});
+      c.dNdx.assign(n, {});
+      c.dNdy.assign(n, {});
+      c.valid = false;
+    }
+  }
   for (auto* v : {&nodes_.mass_solid, &nodes_.mass_liquid, &nodes_.vx_solid, &nodes_.vy_solid,
                   &nodes_.vx_liquid, &nodes_.vy_liquid}) {
     v->assign(nn_, 0.0);
@@ -333,11 +345,44 @@ inline void chunk(std::size_t n, int t, int T, std::size_t& b, std::size_t& e) {
 }  // namespace
 
 template <class G, ShapeKind S>
+inline bool Solver::locate(const G& grid, int phase, std::size_t p, Stencil& st) {
+  const PointFields& pts = phase == 0 ? static_cast<const PointFields&>(solid_)
+                                      : static_cast<const PointFields&>(liquid_);
+  if constexpr (std::is_same_v<G, PolarGrid>) {
+    StencilCache& c = cache_[phase];
+    if (c.valid) {
+      if (c.count[p] == 0) return false;
+      st.count = 4;
+      for (int k = 0; k < 4; ++k) {
+        st.node[k] = c.node[p][k];
+        st.N[k] = c.N[p][k];
+        st.dNdx[k] = c.dNdx[p][k];
+        st.dNdy[k] = c.dNdy[p][k];
+      }
+      return true;
+    }
+    const bool inside = grid.template stencil<S>(pts.x[p], pts.y[p], 0.0, 0.0, st);
+    c.count[p] = inside ? 4 : 0;
+    if (inside) {
+      for (int k = 0; k < 4; ++k) {
+        c.node[p][k] = st.node[k];
+        c.N[p][k] = st.N[k];
+        c.dNdx[p][k] = st.dNdx[k];
+        c.dNdy[p][k] = st.dNdy[k];
+      }
+    }
+    return inside;
+  } else {
+    return grid.template stencil<S>(pts.x[p], pts.y[p], options_.gimp_half_length_x,
+                                    options_.gimp_half_length_y, st);
+  }
+}
+
+template <class G, ShapeKind S>
 void Solver::map_first(const G& grid) {
   const bool wet = liquid_.size() > 0;
   const int nn = nn_;
   const double s = options_.mass_scaling, gx = options_.gravity_x, gy = options_.gravity_y;
-  const double lx = options_.gimp_half_length_x, ly = options_.gimp_half_length_y;
   std::atomic<long> lost_solid{-1}, lost_liquid{-1};
   scatter(wet ? NF : solid_fields, [&](double* acc, int t, int T) {
     double* ms = acc + MS * nn;
@@ -351,7 +396,7 @@ void Solver::map_first(const G& grid) {
     const SolidPoints& sp = solid_;
     Stencil st{};
     for (std::size_t p = b; p < e; ++p) {
-      if (!grid.template stencil<S>(sp.x[p], sp.y[p], lx, ly, st)) {
+      if (!locate<G, S>(grid, 0, p, st)) {
         lost_solid = static_cast<long>(p);
         continue;
       }
@@ -383,7 +428,7 @@ void Solver::map_first(const G& grid) {
     const LiquidPoints& lp = liquid_;
     chunk(lp.size(), t, T, b, e);
     for (std::size_t p = b; p < e; ++p) {
-      if (!grid.template stencil<S>(lp.x[p], lp.y[p], lx, ly, st)) {
+      if (!locate<G, S>(grid, 1, p, st)) {
         lost_liquid = static_cast<long>(p);
         continue;
       }
@@ -410,6 +455,7 @@ void Solver::map_first(const G& grid) {
   });
   if (lost_solid >= 0) lost_point(Phase::solid, lost_solid);
   if (lost_liquid >= 0) lost_point(Phase::liquid, lost_liquid);
+  cache_[0].valid = cache_[1].valid = true;  // stencils at the current positions
 }
 
 void Solver::lost_point(Phase phase, long index) const {
@@ -572,18 +618,18 @@ void Solver::apply_conditions(Phase phase, double* vx, double* vy) const {
 template <class G, ShapeKind S>
 void Solver::update_points(const G& grid) {
   const double dt = dt_, flip = options_.flip;
-  const double lx = options_.gimp_half_length_x, ly = options_.gimp_half_length_y;
   const bool usl = options_.scheme == UpdateScheme::usl;
   const bool wet = liquid_.size() > 0;
   auto g2p = [&](PointFields& pts, const double* vx, const double* vy, const double* ax,
                  const double* ay, bool extras) {
+    const int phase = &pts == static_cast<PointFields*>(&liquid_) ? 1 : 0;
     const long n = static_cast<long>(pts.size());
 #pragma omp parallel num_threads(threads_) if (threads_ > 1)
     {
       Stencil st{};
 #pragma omp for schedule(static)
       for (long p = 0; p < n; ++p) {
-        if (!grid.template stencil<S>(pts.x[p], pts.y[p], lx, ly, st)) continue;  // caught in map
+        if (!locate<G, S>(grid, phase, p, st)) continue;  // caught in the next map
         double vpx = 0, vpy = 0, apx = 0, apy = 0, Lxx = 0, Lxy = 0, Lyx = 0, Lyy = 0;
         double div_s = 0, n_at = 0;
         for (int k = 0; k < st.count; ++k) {
@@ -628,6 +674,7 @@ void Solver::update_points(const G& grid) {
   if (wet) {
     g2p(liquid_, nodes_.vx_liquid.data(), nodes_.vy_liquid.data(), alx_.data(), aly_.data(), true);
   }
+  cache_[0].valid = cache_[1].valid = false;  // the points moved
 }
 
 template <class G, ShapeKind S>
@@ -635,16 +682,16 @@ void Solver::remap_momentum(const G& grid) {
   const bool wet = liquid_.size() > 0;
   const int nn = nn_;
   const double s = options_.mass_scaling;
-  const double lx = options_.gimp_half_length_x, ly = options_.gimp_half_length_y;
   std::atomic<long> lost_solid{-1}, lost_liquid{-1};
   scatter(wet ? 6 : 3, [&](double* acc, int t, int T) {
     auto map = [&](const PointFields& pts, double* m_, double* px_, double* py_,
                    std::atomic<long>& lost) {
+      const int phase = &pts == static_cast<const PointFields*>(&liquid_) ? 1 : 0;
       std::size_t b, e;
       chunk(pts.size(), t, T, b, e);
       Stencil st{};
       for (std::size_t p = b; p < e; ++p) {
-        if (!grid.template stencil<S>(pts.x[p], pts.y[p], lx, ly, st)) {
+        if (!locate<G, S>(grid, phase, p, st)) {
           lost = static_cast<long>(p);
           continue;
         }
@@ -662,6 +709,7 @@ void Solver::remap_momentum(const G& grid) {
   });
   if (lost_solid >= 0) lost_point(Phase::solid, lost_solid);
   if (lost_liquid >= 0) lost_point(Phase::liquid, lost_liquid);
+  cache_[0].valid = cache_[1].valid = true;
   const double floor = mass_floor_ * s;
   const double* A = acc_.data();
   NodeFields& out = nodes_;
@@ -682,15 +730,15 @@ void Solver::remap_momentum(const G& grid) {
 
 template <class G, ShapeKind S>
 void Solver::velocity_gradients(const G& grid, bool liquid_extras) {
-  const double lx = options_.gimp_half_length_x, ly = options_.gimp_half_length_y;
   auto grad = [&](PointFields& pts, const double* vx, const double* vy, bool extras) {
+    const int phase = &pts == static_cast<PointFields*>(&liquid_) ? 1 : 0;
     const long n = static_cast<long>(pts.size());
 #pragma omp parallel num_threads(threads_) if (threads_ > 1)
     {
       Stencil st{};
 #pragma omp for schedule(static)
       for (long p = 0; p < n; ++p) {
-        if (!grid.template stencil<S>(pts.x[p], pts.y[p], lx, ly, st)) continue;
+        if (!locate<G, S>(grid, phase, p, st)) continue;
         double Lxx = 0, Lxy = 0, Lyx = 0, Lyy = 0, div_s = 0, n_at = 0;
         for (int k = 0; k < st.count; ++k) {
           const int a = st.node[k];
@@ -719,6 +767,7 @@ void Solver::velocity_gradients(const G& grid, bool liquid_extras) {
   if (liquid_.size() > 0) {
     grad(liquid_, nodes_.vx_liquid.data(), nodes_.vy_liquid.data(), liquid_extras);
   }
+  cache_[0].valid = cache_[1].valid = true;
 }
 
 // Conduction of T among the solid points, seed section 5: T mapped to the nodes weighted by the
@@ -729,7 +778,6 @@ void Solver::velocity_gradients(const G& grid, bool liquid_extras) {
 template <class G, ShapeKind S>
 void Solver::conduct_temperature(const G& grid) {
   const int nn = nn_;
-  const double lx = options_.gimp_half_length_x, ly = options_.gimp_half_length_y;
   const double kappa = options_.temperature_conductivity, dt = dt_;
   SolidPoints& sp = solid_;
   scatter(2, [&](double* acc, int t, int T) {
@@ -737,7 +785,7 @@ void Solver::conduct_temperature(const G& grid) {
     chunk(sp.size(), t, T, b, e);
     Stencil st{};
     for (std::size_t p = b; p < e; ++p) {
-      if (!grid.template stencil<S>(sp.x[p], sp.y[p], lx, ly, st)) continue;  // caught next map
+      if (!locate<G, S>(grid, 0, p, st)) continue;  // caught in the next map
       const double c = 1.5 * sp.mass[p], cT = c * sp.temperature[p];
       for (int k = 0; k < st.count; ++k) {
         acc[st.node[k]] += st.N[k] * c;
@@ -745,6 +793,7 @@ void Solver::conduct_temperature(const G& grid) {
       }
     }
   });
+  cache_[0].valid = true;
   std::vector<double>& A = acc_;
   std::vector<double>& nodal_T = nodal_temperature_;
   std::vector<double>& capacity = heat_capacity_;
@@ -758,7 +807,7 @@ void Solver::conduct_temperature(const G& grid) {
     Stencil st{};
 #pragma omp for schedule(static)
     for (long p = 0; p < np; ++p) {
-      if (!grid.template stencil<S>(sp.x[p], sp.y[p], lx, ly, st)) continue;
+      if (!locate<G, S>(grid, 0, p, st)) continue;
       double gx = 0, gy = 0;
       for (int k = 0; k < st.count; ++k) {
         gx += st.dNdx[k] * nodal_T[st.node[k]];
@@ -773,7 +822,7 @@ void Solver::conduct_temperature(const G& grid) {
     chunk(sp.size(), t, T, b, e);
     Stencil st{};
     for (std::size_t p = b; p < e; ++p) {
-      if (!grid.template stencil<S>(sp.x[p], sp.y[p], lx, ly, st)) continue;
+      if (!locate<G, S>(grid, 0, p, st)) continue;
       const double qx = kappa * temperature_gradient_x_[p] * sp.volume[p];
       const double qy = kappa * temperature_gradient_y_[p] * sp.volume[p];
       for (int k = 0; k < st.count; ++k) acc[st.node[k]] -= st.dNdx[k] * qx + st.dNdy[k] * qy;
@@ -786,7 +835,7 @@ void Solver::conduct_temperature(const G& grid) {
     Stencil st{};
 #pragma omp for schedule(static)
     for (long p = 0; p < np; ++p) {
-      if (!grid.template stencil<S>(sp.x[p], sp.y[p], lx, ly, st)) continue;
+      if (!locate<G, S>(grid, 0, p, st)) continue;
       double dT = 0;
       for (int k = 0; k < st.count; ++k) dT += st.N[k] * A[st.node[k]];
       sp.temperature[p] += dT;

@@ -6,6 +6,7 @@
 // points runs the same code and skips every liquid loop.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
@@ -115,6 +116,8 @@ class Solver {
   void add_nodal_force(Phase phase, int node, double fx, double fy);
 
   // After the points are filled: checks, material ranges, porosity, drag, the time step.
+  // (Moving points by hand after initialize() needs another initialize(): the polar grid caches
+  // the points' stencils between steps.)
   void initialize();
   void step();
   void run_steps(long n) {
@@ -138,6 +141,7 @@ class Solver {
     time_ = time;
     step_ = step;
     dt_ = dt;
+    cache_[0].valid = cache_[1].valid = false;  // positions were restored
   }
 
  private:
@@ -157,6 +161,10 @@ class Solver {
   void conduct_temperature(const G& grid);
   template <class Body>
   void scatter(int fields, Body&& body);
+  // The stencil of point p of a phase (0 solid, 1 liquid). On the polar grid (atan2 + Newton per
+  // location) stencils are cached between position updates: one location per point per step.
+  template <class G, ShapeKind S>
+  bool locate(const G& grid, int phase, std::size_t p, Stencil& st);
   void solve_porosity_only();
   void refresh_liquid_state();
   double viscosity_at(double nu) const;  // η(ν)
@@ -186,6 +194,13 @@ class Solver {
     double fx, fy;
   };
   std::vector<NodalForce> nodal_forces_;
+
+  struct StencilCache {
+    std::vector<int> count;  // 0: the point is outside the grid
+    std::vector<std::array<int, 4>> node;
+    std::vector<std::array<double, 4>> N, dNdx, dNdy;
+    bool valid = false;
+  } cache_[2];
 
   int nn_ = 0;
   int threads_ = 1;
