@@ -141,5 +141,51 @@ TEST(DemFluidLubrication, UnstableTimeStepIsRefusedNamingTheLimit) {
                !read_table(dir / "gap.txt").empty());  // no step was taken
 }
 
+TEST(DemFluidLubrication, PairForcesAndVirialsMatchTheClosedForms) {
+  // Two equal spheres (R = 0.5 mm) along x at gap h = 20 µm, approaching at U and sliding at V
+  // (no spin): F_n = -6π η a² U / h (a = R/2) and, for equal spheres, F_t = -π η R ln(R/h) V
+  // (Ball & Melrose 1997). Sphere 1 is at lower x, so Δx = x1 - x2 = -r and the virials are
+  // W_xx = Δx F_x = c_n U r (repulsive: positive pressure) and W_xy = Δx F_y = c_t V r.
+  constexpr double R = 0.5 * diameter, h = 2e-5, U = 0.01, V = 0.03, eta = 0.2;
+  const double r = 2 * R + h;
+  const double x1 = 0.005 - 0.5 * r, x2 = 0.005 + 0.5 * r;
+  const std::string deck =
+      deck_preamble("region box block 0 0.01 0 0.01 0 0.01 units box\ncreate_box 1 box", 1e-8) +
+      fmt::format(R"(create_atoms    1 single {x1:.17g} 0.005 0.005 units box
+create_atoms    1 single {x2:.17g} 0.005 0.005 units box
+set             group all diameter {d} density {rho}
+group           a id 1
+group           b id 2
+velocity        a set {u:.17g} {v:.17g} 0
+velocity        b set {mu:.17g} {mv:.17g} 0
+fix             integr all nve/sphere
+fix             fl all fluid/le viscosity {eta} permeability seed_eq26 drag no rotation no lubrication 5e-5 1e-6
+run             0
+variable        pn equal f_fl[1]
+variable        pt equal f_fl[10]
+variable        pnxy equal f_fl[4]
+variable        np equal f_fl[27]
+variable        diss equal f_fl[30]
+print           "${{pn}} ${{pt}} ${{pnxy}} ${{np}} ${{diss}}" file pair.txt
+)",
+                  fmt::arg("x1", x1), fmt::arg("x2", x2), fmt::arg("d", diameter),
+                  fmt::arg("rho", density), fmt::arg("u", 0.5 * U), fmt::arg("v", 0.5 * V),
+                  fmt::arg("mu", -0.5 * U), fmt::arg("mv", -0.5 * V), fmt::arg("eta", eta));
+  const auto dir = test_dir("pair_closed_forms");
+  const RunResult run = run_deck(dir, deck, 1);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto rows = read_table(dir / "pair.txt");
+  ASSERT_EQ(rows.size(), 1u);
+  const double volume = 1e-6;  // (0.01 m)³
+  const double cn = 6 * pi * eta * (R / 2) * (R / 2) / h;
+  const double ct = pi * eta * R * std::log(R / h);
+  // closed forms to round-off (the printed values carry 15-16 digits)
+  EXPECT_NEAR(rows[0][0] / (cn * U * r / volume), 1.0, 1e-12);
+  EXPECT_NEAR(rows[0][1] / (ct * V * r / volume), 1.0, 1e-12);
+  EXPECT_NEAR(rows[0][2], 0.0, 1e-12 * rows[0][0]);  // the normal force has no y part
+  EXPECT_EQ(rows[0][3], 1.0);
+  EXPECT_NEAR(rows[0][4] / (cn * U * U + ct * V * V), 1.0, 1e-12);
+}
+
 }  // namespace
 }  // namespace granflow::dem::test
