@@ -1,12 +1,11 @@
 // The extraction harness and deck generation as pure functions (no LIGGGHTS).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 #include <random>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "dem_coupling/deck/contact_time.hpp"
 #include "dem_coupling/deck/shear_deck.hpp"
