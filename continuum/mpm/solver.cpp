@@ -114,17 +114,19 @@ void Solver::initialize() {
   if (threads_ > 1) scratch_.assign(static_cast<std::size_t>(NF) * nn_ * threads_, 0.0);
   for (auto* v : {&asx_, &asy_, &alx_, &aly_}) v->assign(nn_, 0.0);
   porosity_.assign(nn_, 1.0);
-  if (std::holds_alternative<PolarGrid>(grid_)) {
-    for (int phase = 0; phase < 2; ++phase) {
-      const std::size_t n = phase == 0 ? solid_.size() : liquid_.size();
-      StencilCache& c = cache_[phase];
-      c.count.assign(n, 0);
-      c.node.assign(n, {});
-      c.N.assign(n, {});
-      c.dNdx.assign(n, {});
-      c.dNdy.assign(n, {});
-      c.valid = false;
-    }
+  for (int phase = 0; phase < 2; ++phase) {
+    const std::size_t n = phase == 0 ? solid_.size() : liquid_.size();
+    displacement_x_[phase].assign(n, 0.0);
+    displacement_y_[phase].assign(n, 0.0);
+    StencilCache& c = cache_[phase];
+    c.stride = 4;  // the cache serves the polar grid (linear shapes) only
+    const std::size_t m = std::holds_alternative<PolarGrid>(grid_) ? n * c.stride : 0;
+    c.count.assign(m > 0 ? n : 0, 0);
+    c.node.assign(m, 0);
+    c.N.assign(m, 0.0);
+    c.dNdx.assign(m, 0.0);
+    c.dNdy.assign(m, 0.0);
+    c.valid = false;
   }
   for (auto* v : {&nodes_.mass_solid, &nodes_.mass_liquid, &nodes_.vx_solid, &nodes_.vy_solid,
                   &nodes_.vx_liquid, &nodes_.vy_liquid}) {
@@ -305,6 +307,8 @@ void Solver::step_impl(const G& grid) {
   }
   constitutive_update();
   if (options_.temperature_conductivity > 0 && solid_.size() > 0) conduct_temperature<G, S>(grid);
+  move_points();
+  cache_[0].valid = cache_[1].valid = false;  // the points moved: locate again next step
   time_ += dt_;
   ++step_;
   if (options_.dt_update_interval > 0 && step_ % options_.dt_update_interval == 0) update_dt();
@@ -350,29 +354,28 @@ inline bool Solver::locate(const G& grid, int phase, std::size_t p, Stencil& st)
                                       : static_cast<const PointFields&>(liquid_);
   if constexpr (std::is_same_v<G, PolarGrid>) {
     StencilCache& c = cache_[phase];
+    const std::size_t o = p * static_cast<std::size_t>(c.stride);
     if (c.valid) {
-      if (c.count[p] == 0) return false;
-      st.count = 4;
-      for (int k = 0; k < 4; ++k) {
-        st.node[k] = c.node[p][k];
-        st.N[k] = c.N[p][k];
-        st.dNdx[k] = c.dNdx[p][k];
-        st.dNdy[k] = c.dNdy[p][k];
+      st.count = c.count[p];
+      for (int k = 0; k < st.count; ++k) {
+        st.node[k] = c.node[o + k];
+        st.N[k] = c.N[o + k];
+        st.dNdx[k] = c.dNdx[o + k];
+        st.dNdy[k] = c.dNdy[o + k];
       }
-      return true;
+      return st.count > 0;
     }
     const bool inside = grid.template stencil<S>(pts.x[p], pts.y[p], 0.0, 0.0, st);
-    c.count[p] = inside ? 4 : 0;
-    if (inside) {
-      for (int k = 0; k < 4; ++k) {
-        c.node[p][k] = st.node[k];
-        c.N[p][k] = st.N[k];
-        c.dNdx[p][k] = st.dNdx[k];
-        c.dNdy[p][k] = st.dNdy[k];
-      }
+    c.count[p] = inside ? st.count : 0;
+    for (int k = 0; inside && k < st.count; ++k) {
+      c.node[o + k] = st.node[k];
+      c.N[o + k] = st.N[k];
+      c.dNdx[o + k] = st.dNdx[k];
+      c.dNdy[o + k] = st.dNdy[k];
     }
     return inside;
   } else {
+    // Cartesian: locating is a few flops, cheaper than reading a cache.
     return grid.template stencil<S>(pts.x[p], pts.y[p], options_.gimp_half_length_x,
                                     options_.gimp_half_length_y, st);
   }
@@ -624,6 +627,8 @@ void Solver::update_points(const G& grid) {
                  const double* ay, bool extras) {
     const int phase = &pts == static_cast<PointFields*>(&liquid_) ? 1 : 0;
     const long n = static_cast<long>(pts.size());
+    double* dx = displacement_x_[phase].data();
+    double* dy = displacement_y_[phase].data();
 #pragma omp parallel num_threads(threads_) if (threads_ > 1)
     {
       Stencil st{};
@@ -653,8 +658,10 @@ void Solver::update_points(const G& grid) {
         // FLIP/PIC blend: v <- flip (v + dt a) + (1 - flip) v_PIC; x <- x + dt v_PIC
         pts.vx[p] = flip * (pts.vx[p] + dt * apx) + (1.0 - flip) * vpx;
         pts.vy[p] = flip * (pts.vy[p] + dt * apy) + (1.0 - flip) * vpy;
-        pts.x[p] += dt * vpx;
-        pts.y[p] += dt * vpy;
+        // Applied at the end of the step (move_points): every grid operation of the step uses
+        // the shape functions of the start-of-step configuration.
+        dx[p] = dt * vpx;
+        dy[p] = dt * vpy;
         if (usl) {
           pts.Lxx[p] = Lxx;
           pts.Lxy[p] = Lxy;
@@ -674,7 +681,6 @@ void Solver::update_points(const G& grid) {
   if (wet) {
     g2p(liquid_, nodes_.vx_liquid.data(), nodes_.vy_liquid.data(), alx_.data(), aly_.data(), true);
   }
-  cache_[0].valid = cache_[1].valid = false;  // the points moved
 }
 
 template <class G, ShapeKind S>
@@ -845,6 +851,21 @@ void Solver::conduct_temperature(const G& grid) {
   if (negative >= 0) {
     throw SolverFailure(step_ + 1, fmt::format("solid point {}", negative), "temperature",
                         sp.temperature[negative], "negative or non-finite granular temperature");
+  }
+}
+
+void Solver::move_points() {
+  for (int phase = 0; phase < 2; ++phase) {
+    PointFields& pts =
+        phase == 0 ? static_cast<PointFields&>(solid_) : static_cast<PointFields&>(liquid_);
+    const long n = static_cast<long>(pts.size());
+    const double* dx = displacement_x_[phase].data();
+    const double* dy = displacement_y_[phase].data();
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
+    for (long p = 0; p < n; ++p) {
+      pts.x[p] += dx[p];
+      pts.y[p] += dy[p];
+    }
   }
 }
 

@@ -116,8 +116,8 @@ class Solver {
   void add_nodal_force(Phase phase, int node, double fx, double fy);
 
   // After the points are filled: checks, material ranges, porosity, drag, the time step.
-  // (Moving points by hand after initialize() needs another initialize(): the polar grid caches
-  // the points' stencils between steps.)
+  // (Moving points by hand between initialize() and the first step needs another initialize():
+  // the points' stencils are cached.)
   void initialize();
   void step();
   void run_steps(long n) {
@@ -161,12 +161,13 @@ class Solver {
   void conduct_temperature(const G& grid);
   template <class Body>
   void scatter(int fields, Body&& body);
-  // The stencil of point p of a phase (0 solid, 1 liquid). On the polar grid (atan2 + Newton per
-  // location) stencils are cached between position updates: one location per point per step.
+  // The stencil of point p of a phase (0 solid, 1 liquid) at the start of the step; on the polar
+  // grid (an atan2 and a Newton solve per location) located once per step, then cached.
   template <class G, ShapeKind S>
   bool locate(const G& grid, int phase, std::size_t p, Stencil& st);
   void solve_porosity_only();
   void refresh_liquid_state();
+  void move_points();                    // x += Δx of the step, at its end
   double viscosity_at(double nu) const;  // η(ν)
   double drag_at(double n) const;        // β(n)
   void apply_conditions(Phase phase, double* vx, double* vy) const;
@@ -195,10 +196,15 @@ class Solver {
   };
   std::vector<NodalForce> nodal_forces_;
 
+  // Every grid operation of a step uses the shape functions of the start-of-step configuration
+  // (Sulsky, Zhou & Schreyer 1995; Nairn 2003): the point displacements of the step are kept
+  // here and applied at its end. On the polar grid the stencils are also cached for the step.
+  std::vector<double> displacement_x_[2], displacement_y_[2];
   struct StencilCache {
+    int stride = 4;          // entries per point
     std::vector<int> count;  // 0: the point is outside the grid
-    std::vector<std::array<int, 4>> node;
-    std::vector<std::array<double, 4>> N, dNdx, dNdy;
+    std::vector<int> node;
+    std::vector<double> N, dNdx, dNdy;
     bool valid = false;
   } cache_[2];
 
