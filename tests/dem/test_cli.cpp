@@ -34,9 +34,13 @@ strain:
   sample: 0.01
 )";
 
-int run_cli(const std::string& args, const std::filesystem::path& dir) {
-  const std::string cmd =
-      fmt::format("cd '{}' && '{}' {} > cli.txt 2>&1", dir.string(), GRANFLOW_CLI_PATH, args);
+// `driver`: a granflow-dem replacement (GRANFLOW_DEM_DRIVER) or empty for the built one.
+int run_cli(const std::string& args, const std::filesystem::path& dir,
+            const std::filesystem::path& driver = {}) {
+  const std::string env =
+      driver.empty() ? std::string() : fmt::format("GRANFLOW_DEM_DRIVER='{}' ", driver.string());
+  const std::string cmd = fmt::format("cd '{}' && {}'{}' {} > cli.txt 2>&1", dir.string(), env,
+                                      GRANFLOW_CLI_PATH, args);
   const int raw = std::system(cmd.c_str());
   return WIFEXITED(raw) ? WEXITSTATUS(raw) : 128;
 }
@@ -79,6 +83,24 @@ TEST(DemCli, SmallCaseRunsEndToEndAndWritesTheIssueKeys) {
   EXPECT_EQ(summary.get("dem.particles"), 200);
   // The rerun command is in the log, and the deck reproduces the run by hand.
   EXPECT_NE(read(run / "log.txt").find("granflow-dem in.granflow"), std::string::npos);
+}
+
+TEST(DemCli, LiggghtsErrorIsSurfacedWithExitCode4AndTheRunDirectoryIsKept) {
+  // A driver wrapper appends a command LIGGGHTS rejects to the generated deck, then runs the real
+  // driver: granflow must report LIGGGHTS' own message, exit 4 and keep the run directory.
+  const auto dir = fresh_directory("cli_liggghts_error");
+  std::ofstream(dir / "case.yaml") << small_case;
+  const auto wrapper = dir / "broken-driver.sh";
+  std::ofstream(wrapper) << fmt::format(
+      "#!/bin/sh\necho 'fix broken all no/such/fix/style' >> in.granflow\nexec '{}' \"$@\"\n",
+      GRANFLOW_DEM_DRIVER_PATH);
+  std::filesystem::permissions(wrapper, std::filesystem::perms::owner_all);
+  EXPECT_EQ(run_cli("run case.yaml --out run", dir, wrapper), granflow::core::exit_external);
+  const std::string log = read(dir / "run" / "log.txt");
+  EXPECT_NE(log.find("ERROR"), std::string::npos) << log;
+  EXPECT_NE(log.find("no/such/fix/style"), std::string::npos) << log;
+  EXPECT_TRUE(std::filesystem::exists(dir / "run" / "result.h5"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "run" / "summary.json"));
 }
 
 }  // namespace
