@@ -187,5 +187,30 @@ print           "${{pn}} ${{pt}} ${{pnxy}} ${{np}} ${{diss}}" file pair.txt
   EXPECT_NEAR(rows[0][4] / (cn * U * U + ct * V * V), 1.0, 1e-12);
 }
 
+TEST(DemFluidLubrication, BadFixArgumentsAreRefusedWithTheExpectedValues) {
+  const std::string base =
+      deck_preamble("region box block 0 0.01 0 0.01 0 0.01 units box\ncreate_box 1 box", 1e-7) +
+      "create_atoms 1 single 0.005 0.005 0.005 units box\nset group all diameter 0.001 density "
+      "2500\nfix integr all nve/sphere\n";
+  const std::pair<const char*, const char*> cases[] = {
+      {"viscosity 0.01 permeability darcy", "seed_eq26"},  // lists the valid correlation names
+      {"viscosity 0.01", "permeability NAME"},
+      {"viscosity -1 permeability seed_eq26", "viscosity must be > 0"},
+      {"viscosity 0.01 permeability seed_eq26 lubrication 1e-6 5e-5", "0 < HMIN < HMAX"},
+      {"viscosity 0.01 permeability seed_eq26 lubrication 6e-4 1e-6", "below the smallest radius"},
+      {"viscosity 0.01 permeability seed_eq26 swirl yes", "unknown keyword swirl"},
+  };
+  int k = 0;
+  for (const auto& [arguments, expected] : cases) {
+    const auto dir = test_dir("bad_arguments_" + std::to_string(k++));
+    const RunResult r = run_deck(dir, base + "fix fl all fluid/le " + arguments + "\nrun 1\n", 1);
+    EXPECT_NE(r.exit_code, 0) << arguments;
+    std::ifstream log(dir / "log.txt");
+    std::stringstream text;
+    text << log.rdbuf() << r.output;
+    EXPECT_NE(text.str().find(expected), std::string::npos) << arguments << "\n" << text.str();
+  }
+}
+
 }  // namespace
 }  // namespace granflow::dem::test
