@@ -1,10 +1,13 @@
 // Small Lees-Edwards shear runs of granflow-dem (200-300 particles, a few seconds each).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <numeric>
 #include <span>
+#include <sstream>
 
 #include "analysis/steady_state.hpp"
 #include "dem_coupling/deck/shear_deck.hpp"
@@ -151,6 +154,53 @@ TEST(DemShear, ServoHoldsTheNormalStress) {
   EXPECT_GT(phi.back(), 0.52);
   // Constant volume would keep L_y; the servo moved it.
   EXPECT_NE(run.series.at("ly").front(), run.series.at("ly").back());
+}
+
+TEST(DemShear, KineticStressAndTemperatureAgreeWithLiggghtsAtomVariables) {
+  // Independent path (liggghts-study.md section 3.3): atom-style variables about the same
+  // profile, summed by compute reduce and printed by thermo at every chunk end, against the
+  // harness' P^kin and T of the same step.
+  auto p = dense_case();
+  p.total_strain = 0.5;
+  const auto dir = fresh_directory("kinetic_paths");
+  const auto deck = make_shear_deck(p, "particles.data");
+  std::ofstream(dir / "in.granflow")
+      << deck.deck
+      << fmt::format(
+             "variable gfk_dvx atom vx-{:.17g}*(y-ylo)\n"
+             "variable gfk_kxx atom mass*v_gfk_dvx*v_gfk_dvx\n"
+             "variable gfk_kxy atom mass*v_gfk_dvx*vy\n"
+             "variable gfk_t2 atom v_gfk_dvx*v_gfk_dvx+vy*vy+vz*vz\n"
+             "compute gfk all reduce sum v_gfk_kxx v_gfk_kxy v_gfk_t2\n"
+             "thermo_style custom step atoms c_gfk[1] c_gfk[2] c_gfk[3] c_gf_virial[2]\n"
+             "thermo_modify format float %.15g norm no\n",
+             p.shear_rate);
+  std::ofstream(dir / "particles.data") << deck.data;
+  const auto run = run_driver(dir, 1);
+  ASSERT_EQ(run.status, 0) << run.output;
+  // thermo lines: step atoms kxx kxy t2 virial_yy
+  std::map<long, std::array<double, 3>> thermo;
+  std::istringstream lines(run.output);
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream f(line);
+    long step = 0, atoms = 0;
+    std::array<double, 3> k{};
+    double vir = 0;
+    if (f >> step >> atoms >> k[0] >> k[1] >> k[2] >> vir && atoms == p.particles) thermo[step] = k;
+  }
+  std::size_t compared = 0;
+  for (std::size_t i = 0; i < run.series.rows(); ++i) {
+    const auto it = thermo.find(long(run.series.at("step")[i]));
+    if (it == thermo.end()) continue;
+    const double volume = run.series.at("volume")[i];
+    const auto& k = it->second;
+    // Same sums in a different order (and 15 printed digits): 1e-9 relative.
+    EXPECT_NEAR(run.series.at("Pkin_xx")[i] * volume / k[0], 1.0, 1e-9) << "sample " << i;
+    EXPECT_NEAR(run.series.at("Pkin_xy")[i] * volume, k[1], 1e-9 * std::abs(k[0]));
+    EXPECT_NEAR(run.series.at("T")[i] * 3.0 * p.particles / k[2], 1.0, 1e-9);
+    ++compared;
+  }
+  EXPECT_GE(compared, run.series.rows() - 1);
 }
 
 TEST(DemShear, LiggghtsErrorIsSurfacedWithItsMessage) {
