@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <fstream>
+#include <stdexcept>
 
 namespace granflow::mpm {
 
@@ -95,7 +96,7 @@ std::filesystem::path FieldWriter::write(const Solver& s) {
         }
       },
       s.grid());
-  const std::vector<std::string> solid_fields = {"vx",  "vy",       "sxx",         "syy", "szz",
+  std::vector<std::string> solid_fields = {"vx",  "vy",       "sxx",         "syy", "szz",
                                                  "sxy", "porosity", "temperature", "mass"};
   const std::vector<std::string> liquid_fields = {"vx", "vy", "pressure", "porosity", "mass"};
   const std::vector<std::string> grid_fields = {"mass_solid", "mass_liquid", "vx_solid", "vy_solid",
@@ -116,6 +117,12 @@ std::filesystem::path FieldWriter::write(const Solver& s) {
                                                         &sp.syy,      &sp.szz,         &sp.sxy,
                                                         &sp.porosity, &sp.temperature, &sp.mass};
     for (std::size_t k = 0; k < sv.size(); ++k) write_vector(g, solid_fields[k], *sv[k]);
+    for (const auto& [name, values] : extra_solid_) {
+      if (values->size() != sp.size())
+        throw std::invalid_argument("field " + name + ": not one value per solid point");
+      write_vector(g, name, *values);
+      solid_fields.push_back(name);
+    }
     H5::Group l = file.createGroup("/liquid");
     write_matrix(l, "xy", interleave(lp.x, lp.y), 2);
     const std::vector<const std::vector<double>*> lv = {&lp.vx, &lp.vy, &lp.pressure, &lp.porosity,

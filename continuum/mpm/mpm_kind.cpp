@@ -12,6 +12,8 @@
 #include "continuum/mpm/checkpoint.hpp"
 #include "continuum/mpm/field_writer.hpp"
 #include "continuum/mpm/problems.hpp"
+#include "continuum/mpm/rheometer.hpp"
+#include "continuum/multi_regime/model_sections.hpp"
 
 namespace granflow::mpm {
 
@@ -542,6 +544,246 @@ int run_column(core::RunContext& ctx) {
   return core::exit_ok;
 }
 
+
+// ---- rheometer (issue 8; docs/rheometer.md) ----------------------------------------------------
+
+core::Schema rheometer_schema() {
+  core::Schema s = core::kind_header(
+      "mpm", "rheometer",
+      "The seed's undrained constant-volume annular rheometer (section 6) with the double-point "
+      "MPM and the multi-regime material: outer ring v_θ = a t up to v_max, inner ring fixed.");
+  auto& g = s.section("geometry", "annulus and polar grid");
+  g.number("inner_radius", "m", "R_in (fixed ring)").default_value("0.08").greater_than(0);
+  g.number("outer_radius", "m", "R_out (moving ring)").default_value("0.11").greater_than(0);
+  g.integer("cells_r", "radial cells").default_value("8").at_least(2).sweepable();
+  g.integer("cells_theta", "tangential cells").default_value("96").at_least(8).sweepable();
+  g.integer("points_per_cell", "points per cell and direction (each phase)")
+      .default_value("2")
+      .at_least(1)
+      .sweepable();
+  s.add(continuum::material_section());
+  s.add(continuum::force_chains_section());
+  s.add(continuum::collisional_section());
+  s.add(continuum::liquid_section());
+  auto& i = s.section("initial", "state after the drained isotropic consolidation (phase i)");
+  i.number("void_ratio", "1", "e0").default_value("0.818").greater_than(0);
+  i.number("effective_pressure", "Pa", "p'0 (σ_FC = p'0 I)").default_value("50.0e3").at_least(0);
+  i.number("pore_pressure", "Pa", "u_w0").default_value("50.0e3").at_least(0);
+  i.number("ocr", "1", "r_c / (√3 p'0)").default_value("1.0").at_least(1);
+  i.number("temperature", "m^2/s^2", "T0").default_value("0").at_least(0);
+  auto& ld = s.section("loading", "outer ring (phases ii and iii)");
+  ld.number("acceleration", "m/s^2", "a of v_θ = a t").default_value("333").greater_than(0);
+  ld.number("max_velocity", "m/s", "v_max held in phase iii")
+      .default_value("1.0")
+      .greater_than(0)
+      .sweepable();
+  auto& r = s.section("run", "duration and output");
+  r.number("end_time", "s", "simulated time").default_value("0.02").greater_than(0);
+  r.number_list("profile_times", "s", "times of the radial profiles (γ, v_θ)")
+      .default_value("[0.002, 0.005, 0.01, 0.02]")
+      .greater_than(0);
+  r.integer("profile_bins", "radial bins of the profiles").default_value("16").at_least(2);
+  r.integer("sample_every", "steps between samples of the averaged series")
+      .default_value("20")
+      .at_least(1);
+  r.number("steady_fraction", "1", "steady values: means over this last fraction of the run")
+      .default_value("0.2")
+      .greater_than(0)
+      .at_most(1);
+  add_numerics(s, {"1.0", "0.0", "true"});
+  return s;
+}
+
+void check_rheometer(const core::Case& c) {
+  check_common(c);
+  if (c.string("numerics.shape") != "linear")
+    c.fail("numerics.shape", "linear (the polar grid has linear shape functions only)");
+  if (!(c.number("geometry.outer_radius") > c.number("geometry.inner_radius")))
+    c.fail("geometry.outer_radius", "a value > geometry.inner_radius");
+  if (!c.boolean("force_chains.enabled"))
+    c.fail("force_chains.enabled", "true (the rheometer needs the skeleton)");
+}
+
+RheometerSpec read_rheometer(const core::Case& c) {
+  RheometerSpec r;
+  r.inner_radius = c.number("geometry.inner_radius");
+  r.outer_radius = c.number("geometry.outer_radius");
+  r.cells_r = static_cast<int>(c.integer("geometry.cells_r"));
+  r.cells_theta = static_cast<int>(c.integer("geometry.cells_theta"));
+  r.points_per_cell = static_cast<int>(c.integer("geometry.points_per_cell"));
+  r.void_ratio = c.number("initial.void_ratio");
+  r.effective_pressure = c.number("initial.effective_pressure");
+  r.pore_pressure = c.number("initial.pore_pressure");
+  r.ocr = c.number("initial.ocr");
+  r.initial_temperature = c.number("initial.temperature");
+  r.acceleration = c.number("loading.acceleration");
+  r.max_velocity = c.number("loading.max_velocity");
+  r.model = continuum::read_multi_regime_settings(c);
+  // The liquid points: the same liquid as the model (ρ_L, K_w, η0, κ(ν) drag closure). Their own
+  // viscous stress is the Newtonian η0 part; the mixture viscosity σ_L of the model acts on the
+  // solid points (multi_regime_material.hpp).
+  r.liquid.density = r.model.liquid_parameters.density;
+  r.liquid.bulk_modulus = r.model.liquid_parameters.bulk_modulus;
+  r.liquid.viscosity = r.model.liquid_parameters.viscosity;
+  r.liquid.viscosity_law = ViscosityLaw::constant;
+  r.liquid.drag_law = DragLaw::closure;
+  r.liquid.closure = r.model.liquid_parameters;
+  r.liquid.grain_diameter = r.model.collisional_parameters.diameter;
+  r.options = read_options(c);
+  return r;
+}
+
+int run_rheometer(core::RunContext& ctx) {
+  const core::Case& c = ctx.run_case;
+  const RheometerSpec spec = read_rheometer(c);
+  Rheometer rh = make_rheometer(spec);
+  Solver& s = *rh.solver;
+  maybe_restart(ctx, s);
+  report_setup(ctx, s);
+  const double ms0 = s.total_mass(Phase::solid), ml0 = s.total_mass(Phase::liquid);
+  std::vector<double> gamma(s.solid().size(), 0.0);
+  const RheometerAverages a0 = rheometer_averages(s, *rh.material, gamma);
+  ctx.log->info(
+      "rheometer: e0 = {:g}, p'0 = {:g} Pa, u_w0 = {:g} Pa; v_θ = {:g} t up to v_max = {:g} m/s "
+      "(t = {:.4g} s); mixture volume {:.6g} m² (annulus {:.6g})",
+      spec.void_ratio, spec.effective_pressure, spec.pore_pressure, spec.acceleration,
+      spec.max_velocity, spec.max_velocity / spec.acceleration, a0.mixture_volume,
+      M_PI * (spec.outer_radius * spec.outer_radius - spec.inner_radius * spec.inner_radius));
+  auto fields = field_writer(ctx);
+  if (fields) {
+    fields->add_solid_field("r_c", &rh.material->locus_size());
+    fields->add_solid_field("void_ratio", &rh.material->void_ratio());
+    fields->add_solid_field("shear_strain", &gamma);
+  }
+  const int frames = static_cast<int>(c.integer("output.frames"));
+  const double end_time = c.number("run.end_time");
+  const long sample_every = c.integer("run.sample_every");
+  auto profile_times = c.number_list("run.profile_times");
+  std::sort(profile_times.begin(), profile_times.end());
+  const int bins = static_cast<int>(c.integer("run.profile_bins"));
+  std::vector<double> t_s, tau_s, sg_s, gam_s, rate_s, vol_s, pw_s, nstd_s, fl_s, tmean_s;
+  auto sample = [&]() {
+    const RheometerAverages a = rheometer_averages(s, *rh.material, gamma);
+    double T = 0;
+    for (double v : s.solid().temperature) T += v;
+    t_s.push_back(s.time());
+    tau_s.push_back(a.shear_stress);
+    sg_s.push_back(a.normal_stress);
+    gam_s.push_back(a.shear_strain);
+    rate_s.push_back(a.shear_rate);
+    vol_s.push_back(a.mixture_volume);
+    pw_s.push_back(a.pore_pressure);
+    nstd_s.push_back(a.porosity_std);
+    fl_s.push_back(a.fluidized_fraction);
+    tmean_s.push_back(T / std::max<double>(1.0, s.solid().size()));
+  };
+  std::size_t next_profile = 0;
+  auto profile = [&]() {
+    std::vector<double> r, g, v;
+    rheometer_profiles(s, spec, gamma, bins, r, g, v);
+    const std::string grp = fmt::format("/profiles/{}", next_profile);
+    ctx.result.write(grp + "/radius", r, "m", "bin centre radius");
+    ctx.result.write(grp + "/shear_strain", g, "1", "θ-averaged accumulated γ_rθ");
+    ctx.result.write(grp + "/velocity", v, "m/s", "θ-averaged solid v_θ");
+    ctx.result.attribute(grp, "time", s.time());
+    const double vt = std::min(spec.max_velocity, spec.acceleration * s.time());
+    ctx.result.attribute(grp, "wall_velocity", vt);
+    ++next_profile;
+  };
+  core::Progress progress(ctx.log, "simulated time", end_time);
+  const auto start = std::chrono::steady_clock::now();
+  int next_frame = 1;
+  sample();
+  try {
+    if (fields && s.steps() == 0) fields->write(s);
+    while (s.time() < end_time - 0.5 * s.dt()) {
+      s.step();
+      accumulate_shear_strain(s, gamma);
+      if (s.steps() % sample_every == 0) sample();
+      while (next_profile < profile_times.size() &&
+             s.time() >= profile_times[next_profile] - 0.5 * s.dt())
+        profile();
+      if (fields && frames > 0 && s.time() >= end_time * next_frame / frames - 0.5 * s.dt()) {
+        fields->write(s);
+        ++next_frame;
+      }
+      progress.update(s.time());
+    }
+  } catch (const SolverFailure& f) {
+    throw core::NumericalFailure(f.step >= 0 ? f.step : s.steps() + 1, f.point, f.variable,
+                                 f.value, f.what());
+  }
+  progress.finish();
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  sample();
+  ctx.result.write("/series/time", t_s, "s", "time");
+  ctx.result.write("/series/tau", tau_s, "Pa", "averaged shear stress τ̄ = <σ_rθ> of the solid");
+  ctx.result.write("/series/sigma_G", sg_s, "Pa", "averaged mean solid stress σ̄_G (compr. +)");
+  ctx.result.write("/series/gamma", gam_s, "1", "averaged shear strain γ̄");
+  ctx.result.write("/series/gamma_dot", rate_s, "1/s", "averaged shear rate <γ̇_rθ>");
+  ctx.result.write("/series/mixture_volume", vol_s, "m^2", "Σ V of the solid points");
+  ctx.result.write("/series/pore_pressure", pw_s, "Pa", "mean pore pressure");
+  ctx.result.write("/series/porosity_std", nstd_s, "1", "standard deviation of n");
+  ctx.result.write("/series/fluidized_fraction", fl_s, "1", "volume fraction with r_c = 0");
+  ctx.result.write("/series/temperature", tmean_s, "m^2/s^2", "mean T of the solid points");
+  ctx.result.attribute("/series", "max_velocity", spec.max_velocity);
+  ctx.result.attribute("/series", "inner_radius", spec.inner_radius);
+  ctx.result.attribute("/series", "outer_radius", spec.outer_radius);
+  ctx.result.flush();
+  // steady values: means over the last fraction of the run
+  const double t_steady = end_time * (1.0 - c.number("run.steady_fraction"));
+  double tau_st = 0, sg_st = 0, rate_st = 0;
+  int m = 0;
+  for (std::size_t k = 0; k < t_s.size(); ++k) {
+    if (t_s[k] < t_steady) continue;
+    tau_st += tau_s[k];
+    sg_st += sg_s[k];
+    rate_st += rate_s[k];
+    ++m;
+  }
+  m = std::max(m, 1);
+  const std::size_t ipeak = static_cast<std::size_t>(
+      std::max_element(tau_s.begin(), tau_s.end()) - tau_s.begin());
+  const double vmax_dev = [&]() {
+    double d = 0;
+    for (double v : vol_s) d = std::max(d, std::fabs(v - vol_s.front()) / vol_s.front());
+    return d;
+  }();
+  const double pw_dev = [&]() {
+    double d = 0;
+    for (double p : pw_s) d = std::max(d, std::fabs(p - pw_s.front()));
+    return d / std::max(std::fabs(pw_s.front()), spec.effective_pressure);
+  }();
+  common_summary(ctx, s, wall, ms0, ml0);
+  auto& sum = ctx.summary;
+  sum.set("cost.wall_s", wall);
+  sum.set("peak.tau", tau_s[ipeak]);
+  sum.set("time.peak", t_s[ipeak]);
+  sum.set("peak.sigma_G", *std::max_element(sg_s.begin(), sg_s.end()));
+  sum.set("steady.tau", tau_st / m);
+  sum.set("steady.sigma_G", sg_st / m);
+  sum.set("steady.gamma_dot", rate_st / m);
+  sum.set("final.gamma", gam_s.back());
+  sum.set("fluidized_fraction.final", fl_s.back());
+  sum.set("porosity.std.final", nstd_s.back());
+  sum.set("volume.mixture_rel_change_max", vmax_dev);
+  sum.set("pore_pressure.mean_rel_change", pw_dev);
+  sum.set("rheometer.max_velocity", spec.max_velocity);
+  sum.set("rheometer.cells_r", spec.cells_r);
+  sum.set("rheometer.cells_theta", spec.cells_theta);
+  sum.set("rheometer.points_per_cell", spec.points_per_cell);
+  ctx.log->info(
+      "rheometer: peak τ̄ = {:.4g} Pa at t = {:.4g} s; steady τ̄ = {:.4g} Pa, σ̄_G = {:.4g} Pa, "
+      "γ̇ = {:.4g} 1/s; fluidized fraction {:.3g}; porosity std {:.3g}; max |ΔV|/V = {:.3g}; "
+      "max |Δp̄| = {:.3g} of the initial",
+      tau_s[ipeak], t_s[ipeak], tau_st / m, sg_st / m, rate_st / m, fl_s.back(), nstd_s.back(),
+      vmax_dev, pw_dev);
+  finish_output(ctx, s);
+  ctx.plot("plot_rheometer.py");
+  return core::exit_ok;
+}
+
 }  // namespace
 
 void register_mpm_kinds(core::KindRegistry& registry) {
@@ -551,6 +793,10 @@ void register_mpm_kinds(core::KindRegistry& registry) {
                 couette_schema(), check_couette, run_couette, "cases/mpm/couette.yaml"});
   registry.add({"mpm", "elastic_column", "elastic column under gravity, at rest", column_schema(),
                 check_column, run_column, "cases/mpm/elastic_column.yaml"});
+  registry.add({"mpm", "rheometer",
+                "undrained constant-volume annular rheometer with the multi-regime material",
+                rheometer_schema(), check_rheometer, run_rheometer,
+                "cases/mpm/rheometer_test1.yaml"});
 }
 
 }  // namespace granflow::mpm

@@ -1,0 +1,162 @@
+#include "continuum/mpm/multi_regime_material.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "continuum/mpm/material_points.hpp"
+#include "continuum/mpm/solver.hpp"
+
+namespace granflow::mpm {
+
+MultiRegimeMaterial::MultiRegimeMaterial(continuum::MultiRegimeSettings settings,
+                                         MultiRegimeInitialState initial)
+    : point_(std::move(settings)), initial_(initial) {
+  if (!(initial_.effective_pressure >= 0) || !(initial_.ocr >= 1) ||
+      !(initial_.granular_temperature >= 0))
+    throw std::invalid_argument(
+        "multi_regime: need effective_pressure >= 0, ocr >= 1, temperature >= 0");
+  max_effective_pressure_ = initial_.effective_pressure;
+}
+
+double MultiRegimeMaterial::p_wave_modulus() const {
+  if (!point_.settings().force_chains) return 1.0;  // no skeleton: waves from the liquid only
+  const auto& f = point_.settings().force_chain_parameters;
+  const double p = std::max(max_effective_pressure_, f.pressure_floor);
+  const double K = f.bulk_modulus_ref * std::pow(p / f.reference_pressure, f.elastic_exponent);
+  return 3.0 * K * (1.0 - f.poisson_ratio) / (1.0 + f.poisson_ratio);
+}
+
+void MultiRegimeMaterial::attach(std::size_t begin, std::size_t end) {
+  SolidMaterial::attach(begin, end);
+  const std::size_t n = end - begin;
+  for (auto* a : {&fc_xx_, &fc_yy_, &fc_zz_, &fc_xy_, &chi_xx_, &chi_yy_, &chi_zz_, &chi_xy_, &r_c_,
+                  &void_ratio_, &collisional_pressure_, &shear_rate_})
+    a->assign(n, 0.0);
+}
+
+void MultiRegimeMaterial::initialize(SolidPoints& s) {
+  for (std::size_t p = begin_; p < end_; ++p) {
+    const std::size_t k = p - begin_;
+    const double e = s.porosity[p] / (1.0 - s.porosity[p]);
+    const continuum::PointState st = point_.initial_state(
+        e, initial_.effective_pressure, initial_.ocr, initial_.granular_temperature);
+    const auto& fc = st.force_chains;
+    fc_xx_[k] = fc.stress(0, 0);
+    fc_yy_[k] = fc.stress(1, 1);
+    fc_zz_[k] = fc.stress(2, 2);
+    fc_xy_[k] = fc.stress(0, 1);
+    chi_xx_[k] = fc.chi(0, 0);
+    chi_yy_[k] = fc.chi(1, 1);
+    chi_zz_[k] = fc.chi(2, 2);
+    chi_xy_[k] = fc.chi(0, 1);
+    r_c_[k] = fc.r_c;
+    void_ratio_[k] = e;
+    s.temperature[p] = st.granular_temperature;
+    s.sxx[p] = -fc_xx_[k];
+    s.syy[p] = -fc_yy_[k];
+    s.szz[p] = -fc_zz_[k];
+    s.sxy[p] = -fc_xy_[k];
+  }
+}
+
+namespace {
+// Jaumann rotation of a symmetric plane tensor (zz untouched) by the spin W = [[0, w], [-w, 0]]:
+// A += dt (W A - A W): xx += 2 w A_xy dt, yy -= 2 w A_xy dt, xy += w (A_yy - A_xx) dt.
+inline void rotate(double& xx, double& yy, double& xy, double w_dt) {
+  const double a = xx, b = yy, c = xy;
+  xx = a + 2.0 * w_dt * c;
+  yy = b - 2.0 * w_dt * c;
+  xy = c + w_dt * (b - a);
+}
+}  // namespace
+
+void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
+  const long b = static_cast<long>(begin_), e = static_cast<long>(end_);
+  long bad = -1;
+  double max_p = 0.0;
+#pragma omp parallel for schedule(dynamic, 64) num_threads(v.threads) if (v.threads > 1) \
+    reduction(max : bad, max_p)
+  for (long p = b; p < e; ++p) {
+    const std::size_t k = static_cast<std::size_t>(p - b);
+    const double Dxx = v.Lxx[p], Dyy = v.Lyy[p], Dxy = 0.5 * (v.Lxy[p] + v.Lyx[p]);
+    const double w_dt = 0.5 * (v.Lxy[p] - v.Lyx[p]) * dt;
+    continuum::PointState st;
+    st.solid_fraction = 1.0 - v.porosity[p];
+    st.granular_temperature = std::max(v.temperature[p], 0.0);
+    auto& fc = st.force_chains;
+    rotate(fc_xx_[k], fc_yy_[k], fc_xy_[k], w_dt);
+    rotate(chi_xx_[k], chi_yy_[k], chi_xy_[k], w_dt);
+    fc.stress << fc_xx_[k], fc_xy_[k], 0, fc_xy_[k], fc_yy_[k], 0, 0, 0, fc_zz_[k];
+    fc.chi << chi_xx_[k], chi_xy_[k], 0, chi_xy_[k], chi_yy_[k], 0, 0, 0, chi_zz_[k];
+    fc.r_c = r_c_[k];
+    fc.void_ratio = 1.0 / st.solid_fraction - 1.0;
+    // compression-positive strain rate of the model: ε̇ = -D (plane strain, D_zz = 0)
+    Eigen::Matrix3d strain_rate;
+    strain_rate << -Dxx, -Dxy, 0, -Dxy, -Dyy, 0, 0, 0, 0;
+    continuum::StressParts parts;
+    try {
+      parts = point_.advance(st, strain_rate, dt);
+    } catch (const std::exception&) {
+      bad = std::max(bad, p);
+      continue;
+    }
+    const Eigen::Matrix3d& s_fc = st.force_chains.stress;
+    fc_xx_[k] = s_fc(0, 0);
+    fc_yy_[k] = s_fc(1, 1);
+    fc_zz_[k] = s_fc(2, 2);
+    fc_xy_[k] = 0.5 * (s_fc(0, 1) + s_fc(1, 0));
+    chi_xx_[k] = st.force_chains.chi(0, 0);
+    chi_yy_[k] = st.force_chains.chi(1, 1);
+    chi_zz_[k] = st.force_chains.chi(2, 2);
+    chi_xy_[k] = 0.5 * (st.force_chains.chi(0, 1) + st.force_chains.chi(1, 0));
+    r_c_[k] = st.force_chains.r_c;
+    void_ratio_[k] = st.force_chains.void_ratio;
+    collisional_pressure_[k] = parts.collisional_pressure;
+    shear_rate_[k] = continuum::MultiRegimePoint::shear_rate(strain_rate);
+    v.temperature[p] = st.granular_temperature;
+    // σ' of the solver (tension positive) = -(σ_FC + σ_COL + σ_L)
+    const Eigen::Matrix3d total = parts.total_without_pore_pressure();
+    v.sxx[p] = -total(0, 0);
+    v.syy[p] = -total(1, 1);
+    v.szz[p] = -total(2, 2);
+    v.sxy[p] = -0.5 * (total(0, 1) + total(1, 0));
+    const double p_fc = s_fc.trace() / 3.0;
+    max_p = std::max(max_p, p_fc);
+    if (!std::isfinite(total.sum()) || !std::isfinite(st.granular_temperature) ||
+        st.granular_temperature < 0.0)
+      bad = std::max(bad, p);
+  }
+  max_effective_pressure_ = max_p;
+  if (bad >= 0) {
+    const std::size_t k = static_cast<std::size_t>(bad - b);
+    throw SolverFailure(-1, fmt::format("solid point {}", bad), "multi_regime stress/T",
+                        v.temperature[bad],
+                        fmt::format("multi-regime update failed (n = {:.4g}, r_c = {:.4g} Pa, "
+                                    "T = {:.4g} m²/s²; ν outside the closures' range, or NaN)",
+                                    v.porosity[bad], r_c_[k], v.temperature[bad]));
+  }
+}
+
+std::vector<std::pair<std::string, std::vector<double>*>> MultiRegimeMaterial::state() {
+  return {{"fc_xx", &fc_xx_},   {"fc_yy", &fc_yy_},   {"fc_zz", &fc_zz_},
+          {"fc_xy", &fc_xy_},   {"chi_xx", &chi_xx_}, {"chi_yy", &chi_yy_},
+          {"chi_zz", &chi_zz_}, {"chi_xy", &chi_xy_}, {"r_c", &r_c_},
+          {"void_ratio", &void_ratio_}};
+}
+
+void register_multi_regime_material(MaterialRegistry& registry,
+                                    const continuum::MultiRegimeSettings& settings) {
+  registry.add("multi_regime", {"effective_pressure", "ocr", "temperature"},
+               [settings](const MaterialParameters& p) {
+                 MultiRegimeInitialState init;
+                 init.effective_pressure = p.at("effective_pressure");
+                 init.ocr = p.at("ocr");
+                 init.granular_temperature = p.at("temperature");
+                 return std::make_unique<MultiRegimeMaterial>(settings, init);
+               });
+}
+
+}  // namespace granflow::mpm

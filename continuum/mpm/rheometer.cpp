@@ -1,0 +1,129 @@
+#include "continuum/mpm/rheometer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "continuum/mpm/setup.hpp"
+
+namespace granflow::mpm {
+
+Rheometer make_rheometer(const RheometerSpec& spec) {
+  if (!(spec.outer_radius > spec.inner_radius) || !(spec.inner_radius > 0))
+    throw std::invalid_argument("rheometer: need 0 < inner_radius < outer_radius");
+  const PolarGrid g(spec.inner_radius, spec.outer_radius, spec.cells_r, spec.cells_theta);
+  Rheometer r;
+  r.solver = std::make_unique<Solver>(g, spec.options, spec.liquid);
+  Solver& s = *r.solver;
+  MultiRegimeInitialState init;
+  init.effective_pressure = spec.effective_pressure;
+  init.ocr = spec.ocr;
+  init.granular_temperature = spec.initial_temperature;
+  auto material = std::make_unique<MultiRegimeMaterial>(spec.model, init);
+  r.material = material.get();
+  const int mat = s.add_material(std::move(material));
+  const double n0 = spec.void_ratio / (1.0 + spec.void_ratio);
+  const int ppc = spec.points_per_cell;
+  add_solid_annulus(s, g, 0, spec.cells_r, ppc, ppc, mat, n0);
+  add_liquid_annulus(s, g, 0, spec.cells_r, ppc, ppc, n0, spec.pore_pressure);
+  // (ii)-(iii): v_θ(R_out) = a t up to v_max, then held (the solver's linear ramp from t = 0);
+  // inner ring fixed; v_r = 0 on both rings; both phases (impermeable, no-slip walls).
+  const double ramp = spec.max_velocity / spec.acceleration;
+  for (int j = 0; j < g.cells_theta(); ++j) {
+    for (Phase ph : {Phase::solid, Phase::liquid}) {
+      s.fix_velocity(ph, g.node(0, j), Frame::polar, 0, 0.0);
+      s.fix_velocity(ph, g.node(0, j), Frame::polar, 1, 0.0);
+      s.fix_velocity(ph, g.node(spec.cells_r, j), Frame::polar, 0, 0.0);
+      s.fix_velocity(ph, g.node(spec.cells_r, j), Frame::polar, 1, spec.max_velocity, ramp);
+    }
+  }
+  s.initialize();
+  r.material->initialize(s.solid());
+  return r;
+}
+
+void accumulate_shear_strain(const Solver& solver, std::vector<double>& gamma) {
+  const SolidPoints& sp = solver.solid();
+  gamma.resize(sp.size(), 0.0);
+  const double dt = solver.dt();
+  for (std::size_t p = 0; p < sp.size(); ++p) {
+    const double r = std::hypot(sp.x[p], sp.y[p]);
+    const double c = sp.x[p] / r, s = sp.y[p] / r;
+    const double Dxy = 0.5 * (sp.Lxy[p] + sp.Lyx[p]);
+    // D_rθ = (D_yy - D_xx) c s + D_xy (c² - s²)
+    const double D_rt = (sp.Lyy[p] - sp.Lxx[p]) * c * s + Dxy * (c * c - s * s);
+    gamma[p] += 2.0 * D_rt * dt;
+  }
+}
+
+RheometerAverages rheometer_averages(const Solver& solver, const MultiRegimeMaterial& material,
+                                     const std::vector<double>& gamma) {
+  const SolidPoints& sp = solver.solid();
+  RheometerAverages a;
+  double V = 0, n_mean = 0, n2 = 0;
+  const double fluid_rc = material.point().settings().force_chains
+                              ? material.point().settings().force_chain_parameters.fluidization_size
+                              : 0.0;
+  for (std::size_t p = 0; p < sp.size(); ++p) {
+    const double r = std::hypot(sp.x[p], sp.y[p]);
+    const double c = sp.x[p] / r, s = sp.y[p] / r;
+    const double s_rt = (sp.syy[p] - sp.sxx[p]) * c * s + sp.sxy[p] * (c * c - s * s);
+    const double Dxy = 0.5 * (sp.Lxy[p] + sp.Lyx[p]);
+    const double D_rt = (sp.Lyy[p] - sp.Lxx[p]) * c * s + Dxy * (c * c - s * s);
+    const double v = sp.volume[p];
+    V += v;
+    a.shear_stress += v * s_rt;
+    a.normal_stress += -v * (sp.sxx[p] + sp.syy[p] + sp.szz[p]) / 3.0;
+    a.shear_strain += v * (p < gamma.size() ? gamma[p] : 0.0);
+    a.shear_rate += v * 2.0 * D_rt;
+    n_mean += v * sp.porosity[p];
+    n2 += v * sp.porosity[p] * sp.porosity[p];
+    const std::size_t k = p - material.begin();
+    if (p >= material.begin() && p < material.end() && material.locus_size()[k] < fluid_rc)
+      a.fluidized_fraction += v;
+  }
+  a.mixture_volume = V;
+  a.shear_stress /= V;
+  a.normal_stress /= V;
+  a.shear_strain /= V;
+  a.shear_rate /= V;
+  a.fluidized_fraction /= V;
+  n_mean /= V;
+  a.porosity_std = std::sqrt(std::max(0.0, n2 / V - n_mean * n_mean));
+  const LiquidPoints& lp = solver.liquid();
+  double VL = 0, pL = 0;
+  for (std::size_t p = 0; p < lp.size(); ++p) {
+    VL += lp.volume[p];
+    pL += lp.volume[p] * lp.pressure[p];
+  }
+  a.pore_pressure = VL > 0 ? pL / VL : 0.0;
+  return a;
+}
+
+void rheometer_profiles(const Solver& solver, const RheometerSpec& spec,
+                        const std::vector<double>& gamma, int bins, std::vector<double>& radius,
+                        std::vector<double>& g_out, std::vector<double>& v_out) {
+  const SolidPoints& sp = solver.solid();
+  const double R1 = spec.inner_radius, dr = (spec.outer_radius - R1) / bins;
+  std::vector<double> w(bins, 0.0);
+  radius.assign(bins, 0.0);
+  g_out.assign(bins, 0.0);
+  v_out.assign(bins, 0.0);
+  for (std::size_t p = 0; p < sp.size(); ++p) {
+    const double r = std::hypot(sp.x[p], sp.y[p]);
+    const int b = std::clamp(static_cast<int>((r - R1) / dr), 0, bins - 1);
+    const double vt = (-sp.vx[p] * sp.y[p] + sp.vy[p] * sp.x[p]) / r;
+    w[b] += sp.volume[p];
+    g_out[b] += sp.volume[p] * (p < gamma.size() ? gamma[p] : 0.0);
+    v_out[b] += sp.volume[p] * vt;
+  }
+  for (int b = 0; b < bins; ++b) {
+    radius[b] = R1 + (b + 0.5) * dr;
+    if (w[b] > 0) {
+      g_out[b] /= w[b];
+      v_out[b] /= w[b];
+    }
+  }
+}
+
+}  // namespace granflow::mpm
