@@ -13,7 +13,7 @@
 //    neighbour list), reduces the sums over ranks (one MPI_Allreduce) and rank 0 appends a row
 //    to the series file (flushed, so a run stopped by an error keeps what it wrote);
 // 4. under constant normal stress, every gf_servo_every steps rescales the box height with
-//    NormalStressServo (change_box ... remap) and starts a new segment.
+//    NormalStressServo: fix gf_shear is redefined with `y final` for the next segment.
 // Exit codes: 0 ok, 1 LIGGGHTS error (LIGGGHTS exits itself), 2 bad arguments/deck,
 // 3 numerical failure (NaN/Inf or negative T in a sample).
 #include <mpi.h>
@@ -264,8 +264,13 @@ int main(int argc, char** argv) {
       const auto t0 = Clock::now();
       const double height =
           servo->next_height(lmp->domain->yprd, segment_normal_stress / segment_samples);
-      std::snprintf(command, sizeof command, "change_box all y final %.17g %.17g remap units box",
-                    lmp->domain->boxlo[1], lmp->domain->boxlo[1] + height);
+      // The new height is reached smoothly over the next segment by fix deform (remap v: atoms
+      // are not moved, periodic images and ghost velocities carry the dilation). An affine
+      // change_box ... remap between runs instead shifted the peculiar momentum (v_x kept while y
+      // is rescaled) and, with tangential history on 2 ranks, did not conserve momentum.
+      std::snprintf(command, sizeof command,
+                    "fix gf_shear all deform 1 xy erate %.17g y final %.17g %.17g remap v",
+                    shear_rate, lmp->domain->boxlo[1], lmp->domain->boxlo[1] + height);
       lammps_command(handle, command);
       harness_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
     }

@@ -1,6 +1,6 @@
 // Constant-normal-stress servo for Lees-Edwards shear: an integral controller on the box height.
 // Between short runs the driver measures the mean normal stress sigma_yy over the last interval
-// and rescales the height affinely (change_box ... remap):
+// and sets the height to reach over the next interval (fix deform ... y final ... remap v):
 //   L_y <- L_y (1 + clamp(gain (sigma_yy - p0) / p0, -max_strain, +max_strain))
 // (dilate when the sample is over-pressed). The loop gain is gain * d ln(sigma)/d ln(phi);
 // dense flows have d ln(sigma)/d ln(phi) ~ 10-50, so gain ~ 0.01 keeps the loop over-damped

@@ -25,7 +25,8 @@ void accumulate_particles(const ParticleView& particles, const ShearFrame& frame
   constexpr double sphere_volume_factor = 4.0 / 3.0 * std::numbers::pi;
   const int bins = sums.profile_bins();
   double k[6] = {0, 0, 0, 0, 0, 0};
-  double fluct = 0.0, px = 0.0, py = 0.0, pz = 0.0, vs = 0.0, dsum = 0.0;
+  double fluct = 0.0, px = 0.0, py = 0.0, pz = 0.0, vs = 0.0, dsum = 0.0, msum = 0.0;
+  double sx = 0.0, sy = 0.0, sz = 0.0;
   for (int i = 0; i < particles.count; ++i) {
     const double* x = particles.position + 3 * i;
     const double* v = particles.velocity + 3 * i;
@@ -45,6 +46,10 @@ void accumulate_particles(const ParticleView& particles, const ShearFrame& frame
     px += m * dvx;
     py += m * dvy;
     pz += m * dvz;
+    msum += m;
+    sx += dvx;
+    sy += dvy;
+    sz += dvz;
     vs += sphere_volume_factor * r * r * r;
     dsum += 2.0 * r;
     const int b = bin_of(x[1], frame, bins);
@@ -60,6 +65,10 @@ void accumulate_particles(const ParticleView& particles, const ShearFrame& frame
   sums[SampleSums::particle_count] += particles.count;
   sums[SampleSums::solid_volume] += vs;
   sums[SampleSums::diameter_sum] += dsum;
+  sums[SampleSums::mass_sum] += msum;
+  sums[SampleSums::velocity_x] += sx;
+  sums[SampleSums::velocity_y] += sy;
+  sums[SampleSums::velocity_z] += sz;
 }
 
 void accumulate_contacts(const HalfNeighborList& list, const double* position, const double* radius,
@@ -89,15 +98,26 @@ ShearSample finalize_sample(const SampleSums& sums, const std::array<double, 6>&
   const double n = sums[SampleSums::particle_count];
   s.particles = n;
   s.virial_stress = virial_stress;
+  // Remove the uniform drift: sum m (v'-c)_a (v'-c)_b = sum m v'_a v'_b - P_a P_b / M
+  // (parallel-axis theorem), sum |v' - c|^2 = sum |v'|^2 - |S|^2 / N with S = sum v'.
+  const double mass = sums[SampleSums::mass_sum];
+  const double p[3] = {sums[SampleSums::momentum_x], sums[SampleSums::momentum_y],
+                       sums[SampleSums::momentum_z]};
+  const int pair[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
   for (int a = 0; a < 6; ++a) {
-    s.kinetic_stress[a] = sums[SampleSums::Index(SampleSums::kinetic_xx + a)] / volume;
+    const double drift = mass > 0.0 ? p[pair[a][0]] * p[pair[a][1]] / mass : 0.0;
+    s.kinetic_stress[a] = (sums[SampleSums::Index(SampleSums::kinetic_xx + a)] - drift) / volume;
     s.stress[a] = virial_stress[a] + s.kinetic_stress[a];
   }
   s.normal_stress = s.stress[1];
   s.shear_stress = -s.stress[3];
   s.pressure = (s.stress[0] + s.stress[1] + s.stress[2]) / 3.0;
   s.friction = s.shear_stress / s.normal_stress;
-  s.temperature = sums[SampleSums::fluctuation_sq] / (3.0 * n);
+  const double sv[3] = {sums[SampleSums::velocity_x], sums[SampleSums::velocity_y],
+                        sums[SampleSums::velocity_z]};
+  s.temperature =
+      (sums[SampleSums::fluctuation_sq] - (sv[0] * sv[0] + sv[1] * sv[1] + sv[2] * sv[2]) / n) /
+      (3.0 * n);
   s.solid_fraction = sums[SampleSums::solid_volume] / volume;
   s.void_ratio = 1.0 / s.solid_fraction - 1.0;
   s.mean_diameter = sums[SampleSums::diameter_sum] / n;

@@ -5,7 +5,10 @@
 //
 // Streaming profile of Lees-Edwards shear with `fix deform xy erate ... remap v`:
 //   u(y) = (shear_rate (y - ylo), 0, 0)       (same frame as LAMMPS compute temp/deform)
-// Fluctuation v' = v - u(y). Kinetic stress (compression positive, like LAMMPS pressure):
+// Fluctuation v' = v - u(y) - c, with c the mean of v - u(y) (mass-weighted for the stress,
+// number-weighted for T), so that a uniform drift of the whole sample (which Lees-Edwards
+// boundaries do not forbid) is not counted as agitation. Kinetic stress (compression positive,
+// like LAMMPS pressure):
 //   P^kin_ab = (1/V) sum_i m_i v'_ia v'_ib                  (e.g. Campbell 1989, eq. 2.3)
 // Total stress P = P^vir + P^kin, P^vir from `compute pressure ... virial` (pair + fix virials).
 // Granular temperature T = sum_i |v'_i|^2 / (3 N) (number average, model.md section 0).
@@ -57,6 +60,10 @@ class SampleSums {
     solid_volume,    // sum 4/3 pi r^3
     diameter_sum,    // sum 2 r
     contact_count,   // contacts (pairs with ghosts weighted 1/2)
+    mass_sum,        // M = sum m
+    velocity_x,
+    velocity_y,
+    velocity_z,  // sum v' (number weighted)
     fixed_size
   };
   explicit SampleSums(int profile_bins);

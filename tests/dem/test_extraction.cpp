@@ -80,6 +80,33 @@ TEST(DemExtraction, KnownFluctuationsGiveKineticStressAndTemperature) {
   EXPECT_NEAR(s.void_ratio, 1 / phi - 1, 1e-9 * (1 / phi));
 }
 
+TEST(DemExtraction, UniformDriftIsNotAgitation) {
+  // Adding the same velocity to every particle (a drift of the whole periodic sample) must not
+  // change the kinetic stress or T (Galilean invariance of the fluctuations).
+  auto p = on_profile(300, 12.0, 0.0, 0.01, 5);
+  std::mt19937_64 rng(9);
+  std::normal_distribution<double> noise(0.0, 0.02);
+  for (auto& c : p.v) c += noise(rng);
+  SampleSums plain(4), drifting(4);
+  const ShearFrame frame{12.0, 0.0, 0.01};
+  accumulate_particles(p.view(), frame, plain);
+  for (std::size_t i = 0; i < p.v.size(); i += 3) {
+    p.v[i] += 0.05;
+    p.v[i + 1] -= 0.03;
+    p.v[i + 2] += 0.01;
+  }
+  accumulate_particles(p.view(), frame, drifting);
+  const BoxState box{0.01, 0.01, 0.01, 0.0};
+  const auto a = finalize_sample(plain, {}, box, frame, 2500.0);
+  const auto b = finalize_sample(drifting, {}, box, frame, 2500.0);
+  // Round-off of subtracting a drift 2.5x the fluctuation: 1e-10 relative.
+  for (int k = 0; k < 6; ++k)
+    EXPECT_NEAR(b.kinetic_stress[k], a.kinetic_stress[k], 1e-10 * a.kinetic_stress[0]) << k;
+  EXPECT_NEAR(b.temperature / a.temperature, 1.0, 1e-10);
+  // Fluctuations of 0.02 m/s per component: T = 4e-4 within sampling error (300 x 3 values).
+  EXPECT_NEAR(a.temperature, 4e-4, 0.6e-4);
+}
+
 TEST(DemExtraction, RankSumsAddUpToTheSerialSample) {
   // What MPI_Allreduce does: sums of two halves equal the sums of the whole (up to round-off).
   const auto p = on_profile(200, 5.0, 0.0, 0.01, 3);
