@@ -770,6 +770,8 @@ int run_rheometer(core::RunContext& ctx) {
   sum.set("volume.mixture_rel_change_max", vmax_dev);
   sum.set("pore_pressure.mean_rel_change", pw_dev);
   sum.set("rheometer.max_velocity", spec.max_velocity);
+  sum.set("rheometer.clamped_updates", static_cast<double>(rh.material->clamped_updates()));
+  sum.set("pore_pressure.mean_final", pw_s.back());
   sum.set("rheometer.cells_r", spec.cells_r);
   sum.set("rheometer.cells_theta", spec.cells_theta);
   sum.set("rheometer.points_per_cell", spec.points_per_cell);

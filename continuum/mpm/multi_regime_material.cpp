@@ -19,6 +19,14 @@ MultiRegimeMaterial::MultiRegimeMaterial(continuum::MultiRegimeSettings settings
     throw std::invalid_argument(
         "multi_regime: need effective_pressure >= 0, ocr >= 1, temperature >= 0");
   max_effective_pressure_ = initial_.effective_pressure;
+  const auto& st = point_.settings();
+  solid_fraction_limit_ = 0.74;
+  if (st.collisional)
+    solid_fraction_limit_ = std::min(solid_fraction_limit_, st.collisional_parameters.jamming_fraction);
+  if (st.liquid)
+    solid_fraction_limit_ = std::min(solid_fraction_limit_,
+                                     model::maximum_mixture_solid_fraction(st.liquid_parameters));
+  solid_fraction_limit_ -= 1e-3;
 }
 
 double MultiRegimeMaterial::p_wave_modulus() const {
@@ -77,14 +85,22 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
   const long b = static_cast<long>(begin_), e = static_cast<long>(end_);
   long bad = -1;
   double max_p = 0.0;
+  long clamped = 0;
 #pragma omp parallel for schedule(dynamic, 64) num_threads(v.threads) if (v.threads > 1) \
-    reduction(max : bad, max_p)
+    reduction(max : bad, max_p) reduction(+ : clamped)
   for (long p = b; p < e; ++p) {
     const std::size_t k = static_cast<std::size_t>(p - b);
     const double Dxx = v.Lxx[p], Dyy = v.Lyy[p], Dxy = 0.5 * (v.Lxy[p] + v.Lyx[p]);
     const double w_dt = 0.5 * (v.Lxy[p] - v.Lyx[p]) * dt;
     continuum::PointState st;
     st.solid_fraction = 1.0 - v.porosity[p];
+    // Guard of the closures' domain: a point packed beyond ν_lim (a fluidized skeleton clumping
+    // between MPM points) is evaluated at ν_lim; counted and reported (docs/rheometer.md).
+    const double nu_end = st.solid_fraction * std::exp(-(Dxx + Dyy) * dt);
+    if (nu_end > solid_fraction_limit_) {
+      st.solid_fraction = solid_fraction_limit_ * std::exp((Dxx + Dyy) * dt);
+      ++clamped;
+    }
     st.granular_temperature = std::max(v.temperature[p], 0.0);
     auto& fc = st.force_chains;
     rotate(fc_xx_[k], fc_yy_[k], fc_xy_[k], w_dt);
@@ -130,6 +146,7 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
       bad = std::max(bad, p);
   }
   max_effective_pressure_ = max_p;
+  clamped_updates_ += clamped;
   if (bad >= 0) {
     const std::size_t k = static_cast<std::size_t>(bad - b);
     throw SolverFailure(-1, fmt::format("solid point {}", bad), "multi_regime stress/T",

@@ -57,6 +57,9 @@ class MultiRegimeMaterial final : public SolidMaterial {
   const std::vector<double>& void_ratio() const { return void_ratio_; }
   const std::vector<double>& collisional_pressure() const { return collisional_pressure_; }
   const std::vector<double>& shear_rate() const { return shear_rate_; }
+  // Point updates evaluated at the closures' packing limit ν_lim (ν would have exceeded it).
+  long clamped_updates() const { return clamped_updates_; }
+  double solid_fraction_limit() const { return solid_fraction_limit_; }
 
  private:
   std::string name_ = "multi_regime";
@@ -69,6 +72,8 @@ class MultiRegimeMaterial final : public SolidMaterial {
   // diagnostics of the last update
   std::vector<double> collisional_pressure_, shear_rate_;
   double max_effective_pressure_ = 0.0;
+  double solid_fraction_limit_ = 0.74;  // ν_lim: below ν_c and the η(ν) maximum packing
+  long clamped_updates_ = 0;
 };
 
 // Adds "multi_regime" to a registry with the given model settings. Parameters (SI):

@@ -1,0 +1,127 @@
+#!/usr/bin/env python3
+"""PNG plots of a `kind: mpm, test: rheometer` run (seed section 6, Figs. 3-6).
+
+Usage: plot_rheometer.py RUN_DIR [OTHER_RUN_DIR ...]
+  rheometer_averages.png  tau vs sigma_G and tau vs gamma (all runs given, plus the sibling
+                          rheometer runs found next to RUN_DIR)
+  rheometer_steady.png    steady tau vs averaged shear rate, one point per run
+  rheometer_profiles.png  radial profiles of gamma and v_theta at several times (uniform-shear
+                          v_theta dashed)
+  rheometer_fields.png    r_c and porosity of the solid points at several times
+"""
+import glob
+import json
+import os
+import sys
+
+import h5py
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def is_rheometer(run):
+    try:
+        with open(os.path.join(run, "summary.json")) as f:
+            return "rheometer.max_velocity" in json.load(f)
+    except (OSError, ValueError):
+        return False
+
+
+def load(run):
+    with open(os.path.join(run, "summary.json")) as f:
+        summary = json.load(f)
+    with h5py.File(os.path.join(run, "result.h5"), "r") as h5:
+        s = {k: h5["series"][k][:] for k in h5["series"].keys()}
+    return summary, s
+
+
+def averages(runs, out):
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
+    for run in runs:
+        summary, s = load(run)
+        label = f"v_max = {summary['rheometer.max_velocity']:g} m/s"
+        axes[0].plot(s["sigma_G"] / 1e3, s["tau"] / 1e3, "-", label=label)
+        axes[1].plot(s["gamma"], s["tau"] / 1e3, "-", label=label)
+        axes[2].plot(summary["steady.gamma_dot"], summary["steady.tau"] / 1e3, "o", label=label)
+    axes[0].set(xlabel="averaged σ_G [kPa]", ylabel="averaged τ [kPa]", title="stress path")
+    axes[1].set(xlabel="averaged γ", ylabel="averaged τ [kPa]", title="τ̄ - γ̄")
+    axes[2].set(xlabel="steady averaged shear rate [1/s]", ylabel="steady τ̄ [kPa]",
+                title="steady state")
+    for a in axes:
+        a.legend(fontsize=7)
+        a.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "rheometer_averages.png"), dpi=120)
+    plt.close(fig)
+
+
+def profiles(run):
+    with h5py.File(os.path.join(run, "result.h5"), "r") as h5:
+        if "profiles" not in h5:
+            return
+        r1 = h5["series"].attrs["inner_radius"]
+        r2 = h5["series"].attrs["outer_radius"]
+        fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+        for key in sorted(h5["profiles"].keys(), key=int):
+            g = h5["profiles"][key]
+            t = g.attrs["time"]
+            vw = g.attrs["wall_velocity"]
+            line, = axes[0].plot(g["radius"][:], g["shear_strain"][:], "-", label=f"t = {t*1e3:.3g} ms")
+            axes[1].plot(g["radius"][:], g["velocity"][:], "-", color=line.get_color(),
+                         label=f"t = {t*1e3:.3g} ms")
+            rr = np.linspace(r1, r2, 50)
+            # uniform shear (rigid-free Couette of a Newtonian fluid): v = A r + B / r
+            A = vw * r2 / (r2 * r2 - r1 * r1)
+            axes[1].plot(rr, A * (rr - r1 * r1 / rr), "--", color=line.get_color(), lw=0.8)
+        axes[0].set(xlabel="r [m]", ylabel="θ-averaged γ", title="shear strain")
+        axes[1].set(xlabel="r [m]", ylabel="θ-averaged v_θ [m/s]",
+                    title="velocity (dashed: uniform shear)")
+        for a in axes:
+            a.legend(fontsize=7)
+            a.grid(alpha=0.3)
+        fig.tight_layout()
+        fig.savefig(os.path.join(run, "rheometer_profiles.png"), dpi=120)
+        plt.close(fig)
+
+
+def fields(run):
+    files = sorted(glob.glob(os.path.join(run, "fields", "step_*.h5")))
+    if not files:
+        return
+    picks = [files[i] for i in sorted(set(np.linspace(1 if len(files) > 1 else 0, len(files) - 1,
+                                                      4).astype(int)))]
+    fig, axes = plt.subplots(2, len(picks), figsize=(3.6 * len(picks), 7), squeeze=False)
+    for k, f in enumerate(picks):
+        with h5py.File(f, "r") as h5:
+            t = h5.attrs["time"][0]
+            xy = h5["solid"]["xy"][:]
+            rc = h5["solid"]["r_c"][:] if "r_c" in h5["solid"] else np.zeros(len(xy))
+            n = h5["solid"]["porosity"][:]
+        sc = axes[0][k].scatter(xy[:, 0], xy[:, 1], c=rc / 1e3, s=3, cmap="viridis", vmin=0)
+        fig.colorbar(sc, ax=axes[0][k], label="r_c [kPa]")
+        axes[0][k].set(title=f"r_c, t = {t*1e3:.3g} ms", aspect="equal")
+        sc = axes[1][k].scatter(xy[:, 0], xy[:, 1], c=n, s=3, cmap="coolwarm")
+        fig.colorbar(sc, ax=axes[1][k], label="n")
+        axes[1][k].set(title=f"porosity, t = {t*1e3:.3g} ms", aspect="equal")
+    fig.tight_layout()
+    fig.savefig(os.path.join(run, "rheometer_fields.png"), dpi=110)
+    plt.close(fig)
+
+
+def main():
+    run = sys.argv[1]
+    runs = [r for r in sys.argv[1:] if is_rheometer(r)]
+    parent = os.path.dirname(os.path.abspath(run))
+    for sib in sorted(glob.glob(os.path.join(parent, "rheometer_test*"))):
+        if os.path.abspath(sib) not in [os.path.abspath(r) for r in runs] and is_rheometer(sib):
+            runs.append(sib)
+    averages(runs, run)
+    profiles(run)
+    fields(run)
+
+
+if __name__ == "__main__":
+    main()
