@@ -7,6 +7,12 @@
 #ifdef GRANFLOW_HAVE_DEM_KIND
 #include "dem_coupling/dem_kind.hpp"
 #endif
+#ifdef GRANFLOW_HAVE_CALIBRATE_KIND
+#include "analysis/calibration/calibrate_kind.hpp"
+#endif
+#ifdef GRANFLOW_HAVE_PAIR_KIND
+#include "analysis/pair/pair_kind.hpp"
+#endif
 
 namespace granflow::app {
 
@@ -18,6 +24,12 @@ core::KindRegistry make_registry() {
 #endif
 #ifdef GRANFLOW_HAVE_DEM_KIND
   dem::register_dem_kinds(registry);
+#endif
+#ifdef GRANFLOW_HAVE_CALIBRATE_KIND
+  calibration::register_calibrate_kinds(registry);
+#endif
+#ifdef GRANFLOW_HAVE_PAIR_KIND
+  pair::register_pair_kinds(registry);
 #endif
   return registry;
 }
