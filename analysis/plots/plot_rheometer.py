@@ -23,18 +23,29 @@ import numpy as np  # noqa: E402
 
 
 def is_rheometer(run):
+    """A rheometer run: its result.h5 has the averaged series (summary.json may not exist yet
+    while the run's own plot step executes)."""
     try:
-        with open(os.path.join(run, "summary.json")) as f:
-            return "rheometer.max_velocity" in json.load(f)
-    except (OSError, ValueError):
+        with h5py.File(os.path.join(run, "result.h5"), "r") as h5:
+            return "series" in h5 and "tau" in h5["series"]
+    except OSError:
         return False
 
 
 def load(run):
-    with open(os.path.join(run, "summary.json")) as f:
-        summary = json.load(f)
     with h5py.File(os.path.join(run, "result.h5"), "r") as h5:
         s = {k: h5["series"][k][:] for k in h5["series"].keys()}
+        vmax = float(h5["series"].attrs["max_velocity"])
+    try:
+        with open(os.path.join(run, "summary.json")) as f:
+            summary = json.load(f)
+    except (OSError, ValueError):
+        summary = {}
+    if "steady.tau" not in summary:  # as the kind computes it: mean over the last 20 %
+        last = s["time"] >= 0.8 * s["time"][-1]
+        summary["steady.tau"] = float(np.mean(s["tau"][last]))
+        summary["steady.gamma_dot"] = float(np.mean(s["gamma_dot"][last]))
+    summary["rheometer.max_velocity"] = vmax
     return summary, s
 
 
@@ -91,8 +102,14 @@ def fields(run):
     files = sorted(glob.glob(os.path.join(run, "fields", "step_*.h5")))
     if not files:
         return
-    picks = [files[i] for i in sorted(set(np.linspace(1 if len(files) > 1 else 0, len(files) - 1,
-                                                      4).astype(int)))]
+    # frames nearest to 0.6, 1.2 and 2.5 ms (the skeleton's collapse) and the last one
+    times = []
+    for f in files:
+        with h5py.File(f, "r") as h5:
+            times.append(float(h5.attrs["time"][0]))
+    times = np.array(times)
+    wanted = [6e-4, 1.2e-3, 2.5e-3, times[-1]]
+    picks = [files[i] for i in sorted(set(int(np.argmin(np.abs(times - w))) for w in wanted))]
     fig, axes = plt.subplots(2, len(picks), figsize=(3.6 * len(picks), 7), squeeze=False)
     for k, f in enumerate(picks):
         with h5py.File(f, "r") as h5:
@@ -114,6 +131,7 @@ def fields(run):
 def main():
     run = sys.argv[1]
     runs = [r for r in sys.argv[1:] if is_rheometer(r)]
+    runs = runs or [run]
     parent = os.path.dirname(os.path.abspath(run))
     for sib in sorted(glob.glob(os.path.join(parent, "rheometer_test*"))):
         if os.path.abspath(sib) not in [os.path.abspath(r) for r in runs] and is_rheometer(sib):
