@@ -1,0 +1,342 @@
+#include "analysis/calibration/calibrate_kind.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "analysis/calibration/calibration.hpp"
+#include "continuum/multi_regime/model_sections.hpp"
+
+namespace granflow::calibration {
+
+namespace {
+
+// "a b, c" -> {"a", "b", "c"}
+std::vector<std::string> split_names(const std::string& text) {
+  std::vector<std::string> out;
+  std::string item;
+  std::istringstream in(text);
+  while (in >> item) {
+    std::istringstream parts(item);
+    std::string part;
+    while (std::getline(parts, part, ','))
+      if (!part.empty()) out.push_back(part);
+  }
+  return out;
+}
+
+std::filesystem::path resolve_data_path(const core::Case& c, const std::string& name) {
+  const std::filesystem::path p(name);
+  if (p.is_absolute() || std::filesystem::exists(p)) return p;
+  const auto beside_case = std::filesystem::path(c.origin()).parent_path() / p;
+  if (std::filesystem::exists(beside_case)) return beside_case;
+  const auto in_source = core::source_dir() / p;
+  if (std::filesystem::exists(in_source)) return in_source;
+  return p;  // reported as missing by read_dem_dataset
+}
+
+}  // namespace
+
+core::Schema calibrate_schema() {
+  core::Schema s = core::kind_header(
+      "calibrate", "",
+      "Weighted least-squares fit of closure parameters to DEM steady simple-shear data "
+      "(docs/calibration.md): forward model = steady REV simple shear at each DEM (γ̇, σ_yy) "
+      "with the shared material description; writes calibrated.yaml.");
+  s.add(continuum::material_section());
+  s.add(continuum::collisional_section());
+  s.add(continuum::liquid_section());
+  auto& data = s.section("data", "DEM datasets (docs/dem_dataset.md) to calibrate against");
+  data.string("files",
+              "result.h5 paths separated by spaces or commas (relative: to the working directory, "
+              "then the case file's directory, then the source tree)")
+      .required();
+  data.string("observables",
+              "observables fitted, separated by spaces: friction, solid_fraction, "
+              "scaled_temperature (T/(dγ̇)²); the first one is the one holdout.rel_err reports")
+      .default_value("friction");
+  data.number_list("points", "",
+                   "indices (over all files, in order) of the rows to use; empty: all")
+      .default_value("[]");
+  auto& fit = s.section("fit", "the least-squares problem");
+  fit.string("parameters",
+             "parameters to fit, separated by spaces: restitution, jamming_fraction, "
+             "correlation_length_constant, liquid_viscosity_factor, fluctuation_dissipation_factor")
+      .required();
+  fit.integer("max_evaluations", "largest number of residual evaluations of Levenberg-Marquardt")
+      .default_value("4000")
+      .at_least(10);
+  fit.number("fluctuation_dissipation_factor", "", "starting (or fixed) factor on Λ")
+      .default_value("1")
+      .greater_than(0);
+  auto& holdout = s.section("holdout", "out-of-sample check: fit on a subset, predict the rest");
+  holdout
+      .choice("mode", {"none", "every_other", "list"},
+              "every_other: hold out the 2nd, 4th, ... used point; list: the indices in "
+              "holdout.points")
+      .default_value("every_other");
+  holdout.number_list("points", "", "indices (over the used points) held out with mode: list")
+      .default_value("[]");
+  return s;
+}
+
+void check_calibrate_case(const core::Case& c) {
+  const auto names = split_names(c.string("fit.parameters"));
+  if (names.empty()) c.fail("fit.parameters", "at least one parameter name");
+  std::set<std::string> seen;
+  for (const auto& name : names) {
+    try {
+      parameter_spec(name);
+    } catch (const std::invalid_argument& e) {
+      c.fail("fit.parameters", e.what());
+    }
+    if (!seen.insert(name).second) c.fail("fit.parameters", fmt::format("'{}' listed twice", name));
+    if (name == "correlation_length_constant" &&
+        c.string("collisional.correlation_length") != "jenkins")
+      c.fail("fit.parameters",
+             "correlation_length_constant only acts with collisional.correlation_length: jenkins");
+    if ((name == "liquid_viscosity_factor" || name == "fluctuation_dissipation_factor") &&
+        !c.boolean("liquid.enabled"))
+      c.fail("fit.parameters", fmt::format("'{}' needs liquid.enabled: true", name));
+    if (name == "fluctuation_dissipation_factor" && !c.boolean("liquid.fluctuation_dissipation"))
+      c.fail("fit.parameters",
+             "fluctuation_dissipation_factor needs liquid.fluctuation_dissipation: true");
+  }
+  const auto observables = split_names(c.string("data.observables"));
+  if (observables.empty()) c.fail("data.observables", "at least one observable");
+  for (const auto& o : observables) try {
+      parse_observable(o);
+    } catch (const std::invalid_argument& e) {
+      c.fail("data.observables", e.what());
+    }
+  if (!c.boolean("collisional.enabled"))
+    c.fail("collisional.enabled", "true (the forward model is the collisional steady shear)");
+  if (split_names(c.string("data.files")).empty()) c.fail("data.files", "at least one path");
+  if (c.string("holdout.mode") == "list" && c.number_list("holdout.points").empty())
+    c.fail("holdout.points", "a non-empty list of indices with holdout.mode: list");
+}
+
+int run_calibrate_case(core::RunContext& ctx) {
+  const core::Case& c = ctx.run_case;
+  auto& log = *ctx.log;
+  CalibratedModel start;
+  start.settings = continuum::read_multi_regime_settings(c);
+  start.reference_liquid_viscosity = start.settings.liquid_parameters.viscosity;
+  start.factors.fluctuation_dissipation = c.number("fit.fluctuation_dissipation_factor");
+  const auto names = split_names(c.string("fit.parameters"));
+  std::vector<Observable> observables;
+  for (const auto& o : split_names(c.string("data.observables")))
+    observables.push_back(parse_observable(o));
+  const Observable primary = observables.front();
+  const std::string primary_name = observable_names()[static_cast<int>(primary)];
+
+  // ---- data
+  std::vector<DataPoint> all;
+  const auto files = split_names(c.string("data.files"));
+  for (std::size_t f = 0; f < files.size(); ++f) {
+    const auto path = resolve_data_path(c, files[f]);
+    DemDataset set;
+    try {
+      set = read_dem_dataset(path, static_cast<int>(f));
+    } catch (const std::exception& e) {
+      c.fail("data.files", e.what());
+    }
+    for (const auto& why : set.skipped) log.warn("skipped {}", why);
+    const auto& col = start.settings.collisional_parameters;
+    if (std::abs(set.diameter / col.diameter - 1) > 0.05 ||
+        std::abs(set.particle_density / col.particle_density - 1) > 1e-6)
+      log.warn(
+          "{}: DEM d = {:g} m, ρ_p = {:g} kg/m³ differ from the case's material ({:g} m, {:g} "
+          "kg/m³); the case's material is used",
+          path.string(), set.diameter, set.particle_density, col.diameter, col.particle_density);
+    log.info("{}: {} usable conditions", path.string(), set.points.size());
+    all.insert(all.end(), set.points.begin(), set.points.end());
+  }
+  std::vector<DataPoint> used;
+  const auto selection = c.number_list("data.points");
+  if (selection.empty()) {
+    used = all;
+  } else {
+    for (double v : selection) {
+      const auto i = static_cast<long>(v);
+      if (i < 0 || i >= static_cast<long>(all.size()) || static_cast<double>(i) != v)
+        c.fail("data.points", fmt::format("integer indices in [0, {})", all.size()));
+      used.push_back(all[static_cast<std::size_t>(i)]);
+    }
+  }
+  // ---- training / held-out split
+  std::vector<char> held(used.size(), 0);
+  const std::string mode = c.string("holdout.mode");
+  if (mode == "every_other")
+    for (std::size_t i = 1; i < used.size(); i += 2) held[i] = 1;
+  if (mode == "list")
+    for (double v : c.number_list("holdout.points")) {
+      const auto i = static_cast<long>(v);
+      if (i < 0 || i >= static_cast<long>(used.size()))
+        c.fail("holdout.points", fmt::format("indices in [0, {})", used.size()));
+      held[static_cast<std::size_t>(i)] = 1;
+    }
+  std::vector<DataPoint> training, holdout;
+  for (std::size_t i = 0; i < used.size(); ++i) (held[i] ? holdout : training).push_back(used[i]);
+  if (training.size() * observables.size() <= names.size())
+    c.fail("fit.parameters",
+           fmt::format("{} parameters but only {} training residuals ({} points × {} observables)",
+                       names.size(), training.size() * observables.size(), training.size(),
+                       observables.size()));
+
+  // ---- fit
+  log.info("fitting {} on {} training points ({} held out), observables: {}",
+           c.string("fit.parameters"), training.size(), holdout.size(),
+           c.string("data.observables"));
+  const FitResult r =
+      fit(start, names, training, observables, static_cast<int>(c.integer("fit.max_evaluations")));
+  const CalibratedModel calibrated = apply(start, names, r.estimate);
+  if (!r.identifiable)
+    log.warn("Jᵀ W J is singular: the data do not constrain every parameter (standard errors NaN)");
+  log.info(
+      "Levenberg-Marquardt status {} after {} evaluations; χ² {:.6g} -> {:.6g}, χ²_red = {:.4g}",
+      r.status, r.evaluations, r.chi2_initial, r.chi2, r.chi2_red);
+  auto& sum = ctx.summary;
+  for (std::size_t j = 0; j < names.size(); ++j) {
+    log.info("  {} = {:.6g} ± {:.3g} (start {:.6g})", names[j], r.estimate[j], r.standard_error[j],
+             r.initial[j]);
+    sum.set("fit." + names[j], r.estimate[j]);
+    sum.set("fit." + names[j] + "_err", r.standard_error[j]);
+    sum.set("fit." + names[j] + "_initial", r.initial[j]);
+    for (std::size_t k = j + 1; k < names.size(); ++k)
+      sum.set(fmt::format("fit.corr.{}.{}", names[j], names[k]), r.correlation(j, k));
+  }
+  sum.set("fit.chi2", r.chi2);
+  sum.set("fit.chi2_initial", r.chi2_initial);
+  sum.set("fit.chi2_red", r.chi2_red);
+  sum.set("fit.dof", r.dof);
+  sum.set("fit.points", static_cast<double>(training.size()));
+  sum.set("fit.evaluations", r.evaluations);
+  sum.set("fit.status", r.status);
+  sum.set("fit.identifiable", r.identifiable ? 1 : 0);
+  for (std::size_t k = 0; k < observables.size(); ++k) {
+    const std::string& on = observable_names()[static_cast<int>(observables[k])];
+    sum.set("train.rel_err." + on, mean_relative_error(calibrated, training, observables[k]));
+    sum.set("train.rel_err_uncalibrated." + on,
+            mean_relative_error(start, training, observables[k]));
+  }
+  if (!holdout.empty()) {
+    const double after = mean_relative_error(calibrated, holdout, primary);
+    const double before = mean_relative_error(start, holdout, primary);
+    sum.set("holdout.rel_err", after);
+    sum.set("holdout.rel_err_uncalibrated", before);
+    sum.set("holdout.points", static_cast<double>(holdout.size()));
+    for (const auto o : observables) {
+      const std::string& on = observable_names()[static_cast<int>(o)];
+      sum.set("holdout.rel_err." + on, mean_relative_error(calibrated, holdout, o));
+      sum.set("holdout.rel_err_uncalibrated." + on, mean_relative_error(start, holdout, o));
+    }
+    log.info(
+        "held-out {} ({} points): mean relative error {:.4g} calibrated vs {:.4g} uncalibrated",
+        primary_name, holdout.size(), after, before);
+  }
+
+  // ---- result.h5
+  auto& out = ctx.result;
+  const auto col = [&](auto get) {
+    std::vector<double> v;
+    for (const auto& p : used) v.push_back(get(p));
+    return v;
+  };
+  out.write("/data/shear_rate", col([](const DataPoint& p) { return p.shear_rate; }), "1/s",
+            "DEM imposed shear rate γ̇");
+  out.write("/data/normal_stress", col([](const DataPoint& p) { return p.normal_stress; }), "Pa",
+            "DEM steady σ_yy (the continuum's imposed p)");
+  out.write("/data/particle_friction", col([](const DataPoint& p) { return p.particle_friction; }),
+            "1", "μ_p of the condition");
+  out.write("/data/inertial_number", col([](const DataPoint& p) { return p.inertial_number; }), "1",
+            "DEM I");
+  out.write("/data/source", col([](const DataPoint& p) { return double(p.source); }), "1",
+            "index of the data file (data.files order)");
+  out.write("/data/row", col([](const DataPoint& p) { return double(p.row); }), "1",
+            "row in that file's /steady table");
+  std::vector<double> training_flag;
+  for (char h : held) training_flag.push_back(h ? 0.0 : 1.0);
+  out.write("/data/training", training_flag, "1", "1: used in the fit, 0: held out");
+  const char* units[] = {"1", "1", "1"};
+  for (int k = 0; k < observable_count; ++k) {
+    const auto& on = observable_names()[k];
+    out.write("/data/" + on, col([&](const DataPoint& p) { return p.value[k]; }), units[k],
+              "DEM steady " + on);
+    out.write("/data/" + on + "_err", col([&](const DataPoint& p) { return p.error[k]; }), units[k],
+              "DEM standard error of " + on);
+  }
+  for (const auto& [group, model] : std::map<std::string, const CalibratedModel*>{
+           {"uncalibrated", &start}, {"calibrated", &calibrated}}) {
+    std::vector<SteadyShearState> states;
+    for (const auto& p : used) states.push_back(predict(*model, p));
+    for (int k = 0; k < observable_count; ++k) {
+      std::vector<double> v;
+      for (const auto& s : states) v.push_back(s.ok ? predicted(s, Observable(k)) : NAN);
+      out.write("/prediction/" + group + "/" + observable_names()[k], v, units[k],
+                "continuum steady " + observable_names()[k] + " at the DEM condition (" + group +
+                    " parameters)");
+    }
+    std::vector<double> I;
+    for (const auto& s : states) I.push_back(s.ok ? s.inertial_number : NAN);
+    out.write("/prediction/" + group + "/inertial_number", I, "1", "continuum I");
+  }
+  std::vector<double> residuals(r.normalised_residuals.data(),
+                                r.normalised_residuals.data() + r.normalised_residuals.size());
+  out.write_matrix("/fit/normalised_residuals", residuals, training.size(), observables.size(), "1",
+                   "(y - f)/σ at the estimate, training points × observables");
+  const auto vec = [](const Eigen::VectorXd& v) {
+    return std::vector<double>(v.data(), v.data() + v.size());
+  };
+  out.write("/fit/estimate", vec(r.estimate), "1", "fitted parameters (fit.parameters order)");
+  out.write("/fit/standard_error", vec(r.standard_error), "1", "sqrt(diag((Jᵀ W J)⁻¹))");
+  out.write("/fit/initial", vec(r.initial), "1", "starting values");
+  std::vector<double> corr(r.correlation.data(), r.correlation.data() + r.correlation.size());
+  out.write_matrix("/fit/correlation", corr, names.size(), names.size(), "1",
+                   "correlation matrix of the estimates");
+  out.attribute("/fit", "parameters", c.string("fit.parameters"));
+  out.attribute("/fit", "observables", c.string("data.observables"));
+  out.attribute("/fit", "chi2_red", r.chi2_red);
+
+  // ---- calibrated.yaml: the fitted keys under their case sections
+  std::map<std::string, std::vector<std::pair<std::string, double>>> sections;
+  std::string comments;
+  for (std::size_t j = 0; j < names.size(); ++j) {
+    const auto& spec = parameter_spec(names[j]);
+    const double value = case_value(calibrated, names[j]);
+    if (spec.case_key.empty()) {
+      comments += fmt::format(
+          "# {}: {:.8g} ± {:.3g} has no case key yet; it is not applied by rev/mpm cases\n",
+          names[j], r.estimate[j], r.standard_error[j]);
+      continue;
+    }
+    const auto dot = spec.case_key.find('.');
+    sections[spec.case_key.substr(0, dot)].push_back({spec.case_key.substr(dot + 1), value});
+  }
+  std::ofstream yaml(ctx.directory / "calibrated.yaml");
+  yaml << fmt::format("# Calibrated parameters (granflow kind: calibrate, run '{}').\n", c.name());
+  yaml << fmt::format("# Data: {}; observables: {}; χ²_red = {:.4g}\n", c.string("data.files"),
+                      c.string("data.observables"), r.chi2_red);
+  for (std::size_t j = 0; j < names.size(); ++j)
+    yaml << fmt::format("# {} = {:.8g} ± {:.3g}\n", names[j], r.estimate[j], r.standard_error[j]);
+  yaml << comments;
+  for (const auto& [section, keys] : sections) {
+    yaml << section << ":\n";
+    for (const auto& [key, value] : keys) yaml << fmt::format("  {}: {:.10g}\n", key, value);
+  }
+  ctx.plot("plot_calibration.py");
+  return core::exit_ok;
+}
+
+void register_calibrate_kinds(core::KindRegistry& registry) {
+  registry.add({"calibrate", "",
+                "fit closure parameters to DEM steady simple-shear data (weighted least squares)",
+                calibrate_schema(), check_calibrate_case, run_calibrate_case,
+                "cases/calibrate/dry_mu_I.yaml"});
+}
+
+}  // namespace granflow::calibration

@@ -1,0 +1,300 @@
+#include "analysis/calibration/calibration.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Dense>
+#include <Eigen/SVD>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <unsupported/Eigen/NonLinearOptimization>
+#include <unsupported/Eigen/NumericalDiff>
+
+#include "core/result_file.hpp"
+
+namespace granflow::calibration {
+
+const std::vector<ParameterSpec>& parameter_specs() {
+  // Bounds: the schema's range of the case key where there is one; (0, 1) for e_r (ε = 1 makes
+  // Γ vanish and T unbounded); factors positive.
+  static const std::vector<ParameterSpec> specs = {
+      {"restitution", "material.restitution", 0.01, 0.999,
+       "normal restitution e_r (enters ε, J and the correlation length)"},
+      {"jamming_fraction", "collisional.jamming_fraction", 0.49, 0.74, "ν_c, singularity of g0"},
+      {"correlation_length_constant", "collisional.correlation_length_constant", 1e-6, 1e3,
+       "c of Jenkins' correlation length (needs collisional.correlation_length: jenkins)"},
+      {"liquid_viscosity_factor", "liquid.viscosity", 1e-6, 1e6,
+       "factor on η0 (σ_L, Λ and drag); written as liquid.viscosity = factor × η0"},
+      {"fluctuation_dissipation_factor", "", 1e-6, 1e6,
+       "factor f_Λ on Λ (no case key yet: applied at the calibration's call site)"},
+  };
+  return specs;
+}
+
+const ParameterSpec& parameter_spec(const std::string& name) {
+  for (const auto& s : parameter_specs())
+    if (s.name == name) return s;
+  std::string valid;
+  for (const auto& s : parameter_specs()) valid += (valid.empty() ? "" : ", ") + s.name;
+  throw std::invalid_argument(fmt::format("unknown parameter '{}' (valid: {})", name, valid));
+}
+
+double parameter_value(const CalibratedModel& m, const std::string& name) {
+  const auto& col = m.settings.collisional_parameters;
+  if (name == "restitution") return col.restitution;
+  if (name == "jamming_fraction") return col.jamming_fraction;
+  if (name == "correlation_length_constant") return col.correlation_length_constant;
+  if (name == "liquid_viscosity_factor")
+    return m.settings.liquid_parameters.viscosity / m.reference_liquid_viscosity;
+  if (name == "fluctuation_dissipation_factor") return m.factors.fluctuation_dissipation;
+  return parameter_spec(name).lower;  // throws for unknown names
+}
+
+void set_parameter(CalibratedModel& m, const std::string& name, double value) {
+  auto& col = m.settings.collisional_parameters;
+  if (name == "restitution")
+    col.restitution = value;
+  else if (name == "jamming_fraction")
+    col.jamming_fraction = value;
+  else if (name == "correlation_length_constant")
+    col.correlation_length_constant = value;
+  else if (name == "liquid_viscosity_factor")
+    m.settings.liquid_parameters.viscosity = value * m.reference_liquid_viscosity;
+  else if (name == "fluctuation_dissipation_factor")
+    m.factors.fluctuation_dissipation = value;
+  else
+    parameter_spec(name);  // throws
+}
+
+double case_value(const CalibratedModel& m, const std::string& name) {
+  if (name == "liquid_viscosity_factor") return m.settings.liquid_parameters.viscosity;
+  return parameter_value(m, name);
+}
+
+const std::vector<std::string>& observable_names() {
+  static const std::vector<std::string> names = {"friction", "solid_fraction",
+                                                 "scaled_temperature"};
+  return names;
+}
+
+Observable parse_observable(const std::string& name) {
+  const auto& names = observable_names();
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return static_cast<Observable>(i);
+  throw std::invalid_argument(fmt::format(
+      "unknown observable '{}' (valid: friction, solid_fraction, scaled_temperature)", name));
+}
+
+DemDataset read_dem_dataset(const std::filesystem::path& file, int source_index) {
+  if (!std::filesystem::exists(file))
+    throw std::runtime_error(fmt::format("{}: no such DEM dataset", file.string()));
+  DemDataset out;
+  const auto column = [&](const char* name) {
+    try {
+      return core::read_dataset(file, std::string("/steady/") + name);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(fmt::format(
+          "{}: /steady/{} missing or unreadable ({}); expected a DEM dataset (docs/dem_dataset.md)",
+          file.string(), name, e.what()));
+    }
+  };
+  out.diameter = core::read_number_attribute(file, "/steady", "diameter");
+  out.particle_density = core::read_number_attribute(file, "/steady", "particle_density");
+  const auto shear_rate = column("shear_rate"), sigma = column("normal_stress"),
+             mu = column("friction"), mu_err = column("friction_err"),
+             phi = column("solid_fraction"), phi_err = column("solid_fraction_err"),
+             T = column("granular_temperature"), T_err = column("granular_temperature_err"),
+             T_scaled = column("scaled_temperature"), mu_p = column("particle_friction"),
+             I = column("inertial_number");
+  for (std::size_t r = 0; r < shear_rate.size(); ++r) {
+    DataPoint p;
+    p.shear_rate = shear_rate[r];
+    p.normal_stress = sigma[r];
+    p.particle_friction = mu_p[r];
+    p.inertial_number = I[r];
+    p.value[0] = mu[r];
+    p.error[0] = mu_err[r];
+    p.value[1] = phi[r];
+    p.error[1] = phi_err[r];
+    p.value[2] = T_scaled[r];
+    p.error[2] = T[r] > 0 ? T_err[r] * T_scaled[r] / T[r] : NAN;  // same relative error as T
+    p.source = source_index;
+    p.row = static_cast<int>(r);
+    bool usable = p.shear_rate > 0 && p.normal_stress > 0;
+    for (int k = 0; k < observable_count; ++k)
+      usable = usable && std::isfinite(p.value[k]) && std::isfinite(p.error[k]) && p.error[k] > 0;
+    if (usable)
+      out.points.push_back(p);
+    else
+      out.skipped.push_back(fmt::format(
+          "{} row {}: non-finite steady values or non-positive error bars (failed or too short "
+          "condition)",
+          file.string(), r));
+  }
+  return out;
+}
+
+SteadyShearState predict(const CalibratedModel& model, const DataPoint& point) {
+  if (std::isfinite(point.particle_friction) &&
+      point.particle_friction != model.settings.collisional_parameters.particle_friction) {
+    continuum::MultiRegimeSettings s = model.settings;
+    s.collisional_parameters.particle_friction = point.particle_friction;
+    return steady_simple_shear(s, model.factors, point.shear_rate, point.normal_stress);
+  }
+  return steady_simple_shear(model.settings, model.factors, point.shear_rate, point.normal_stress);
+}
+
+double predicted(const SteadyShearState& s, Observable observable) {
+  switch (observable) {
+    case Observable::friction:
+      return s.friction;
+    case Observable::solid_fraction:
+      return s.solid_fraction;
+    case Observable::scaled_temperature:
+      return s.scaled_temperature;
+  }
+  return NAN;
+}
+
+CalibratedModel apply(const CalibratedModel& start, const std::vector<std::string>& names,
+                      const Eigen::VectorXd& values) {
+  CalibratedModel m = start;
+  for (std::size_t j = 0; j < names.size(); ++j) set_parameter(m, names[j], values[j]);
+  return m;
+}
+
+namespace {
+
+// Residual vector r = (y - f)/σ for Eigen's LM (the functor interface of NumericalDiff).
+struct WeightedResiduals {
+  using Scalar = double;
+  using InputType = Eigen::VectorXd;
+  using ValueType = Eigen::VectorXd;
+  using JacobianType = Eigen::MatrixXd;
+  enum { InputsAtCompileTime = Eigen::Dynamic, ValuesAtCompileTime = Eigen::Dynamic };
+
+  const CalibratedModel* start;
+  const std::vector<std::string>* names;
+  const std::vector<DataPoint>* data;
+  const std::vector<Observable>* observables;
+  std::vector<ParameterSpec> specs;
+  int* evaluations;
+
+  int inputs() const { return static_cast<int>(names->size()); }
+  int values() const { return static_cast<int>(data->size() * observables->size()); }
+
+  // A trial outside the parameter's interval, or a condition the model cannot carry, gets a
+  // large residual (1e3 σ): LM then rejects the step and shortens it.
+  int operator()(const Eigen::VectorXd& x, Eigen::VectorXd& r) const {
+    ++*evaluations;
+    r.resize(values());
+    constexpr double penalty = 1e3;
+    for (int j = 0; j < inputs(); ++j)
+      if (!(x[j] > specs[j].lower && x[j] < specs[j].upper)) {
+        r.setConstant(penalty);
+        return 0;
+      }
+    const CalibratedModel m = apply(*start, *names, x);
+    const std::size_t K = observables->size();
+    for (std::size_t i = 0; i < data->size(); ++i) {
+      const auto& point = (*data)[i];
+      SteadyShearState s;
+      try {
+        s = predict(m, point);
+      } catch (const std::exception&) {
+        s.ok = false;  // ν_c or e_r outside a closure's domain
+      }
+      for (std::size_t k = 0; k < K; ++k) {
+        const int o = static_cast<int>((*observables)[k]);
+        r[static_cast<int>(i * K + k)] =
+            s.ok ? (point.value[o] - predicted(s, (*observables)[k])) / point.error[o] : penalty;
+      }
+    }
+    return 0;
+  }
+};
+
+}  // namespace
+
+FitResult fit(const CalibratedModel& start, const std::vector<std::string>& names,
+              const std::vector<DataPoint>& data, const std::vector<Observable>& observables,
+              int max_evaluations) {
+  FitResult out;
+  out.names = names;
+  const int n = static_cast<int>(names.size());
+  WeightedResiduals functor{&start, &names, &data, &observables, {}, &out.evaluations};
+  for (const auto& name : names) functor.specs.push_back(parameter_spec(name));
+  const int m = functor.values();
+  if (m <= n)
+    throw std::invalid_argument(fmt::format(
+        "{} residuals for {} parameters: need more data points or observables than parameters", m,
+        n));
+  out.initial.resize(n);
+  for (int j = 0; j < n; ++j) out.initial[j] = parameter_value(start, names[j]);
+  Eigen::VectorXd r(m);
+  functor(out.initial, r);
+  out.chi2_initial = r.squaredNorm();
+
+  Eigen::VectorXd x = out.initial;
+  // Central differences (step sqrt(epsfcn)|x| in NumericalDiff; epsfcn 1e-10 -> 1e-5 relative,
+  // truncation O(1e-10), rounding O(ε/1e-5) ≈ 1e-11 on residuals solved to ~1e-15).
+  Eigen::NumericalDiff<WeightedResiduals, Eigen::Central> numerical(functor, 1e-10);
+  Eigen::LevenbergMarquardt<Eigen::NumericalDiff<WeightedResiduals, Eigen::Central>> lm(numerical);
+  lm.parameters.maxfev = max_evaluations;
+  lm.parameters.xtol = 1e-12;
+  lm.parameters.ftol = 1e-12;
+  out.status = static_cast<int>(lm.minimize(x));
+  out.estimate = x;
+
+  // Jacobian of the residuals at the estimate, central differences with step 1e-5 |θ| (as above).
+  functor(x, r);
+  Eigen::MatrixXd J(m, n);
+  for (int j = 0; j < n; ++j) {
+    const double h = 1e-5 * std::max(std::abs(x[j]), 1e-3);
+    Eigen::VectorXd xp = x, xm = x, rp(m), rm(m);
+    xp[j] += h;
+    xm[j] -= h;
+    functor(xp, rp);
+    functor(xm, rm);
+    J.col(j) = (rp - rm) / (2 * h);
+  }
+  out.chi2 = r.squaredNorm();
+  out.residual_count = m;
+  out.dof = m - n;
+  out.chi2_red = out.chi2 / out.dof;
+  out.normalised_residuals = r;
+  // J is ∂r/∂θ = -W^½ ∂f/∂θ, so Jᵀ J = (∂f/∂θ)ᵀ W (∂f/∂θ).
+  const Eigen::MatrixXd information = J.transpose() * J;
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(J);
+  const auto sv = svd.singularValues();
+  // Rank test: a singular value below 1e-8 of the largest means a direction of θ the data do not
+  // constrain (e.g. the correlation-length constant with L = d).
+  out.identifiable = sv.size() > 0 && sv[sv.size() - 1] > 1e-8 * sv[0];
+  out.covariance = Eigen::MatrixXd::Constant(n, n, NAN);
+  out.standard_error = Eigen::VectorXd::Constant(n, NAN);
+  out.correlation = Eigen::MatrixXd::Constant(n, n, NAN);
+  if (out.identifiable) {
+    out.covariance = information.ldlt().solve(Eigen::MatrixXd::Identity(n, n));
+    out.standard_error = out.covariance.diagonal().cwiseSqrt();
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b)
+        out.correlation(a, b) =
+            out.covariance(a, b) / (out.standard_error[a] * out.standard_error[b]);
+  }
+  return out;
+}
+
+double mean_relative_error(const CalibratedModel& model, const std::vector<DataPoint>& data,
+                           Observable observable) {
+  if (data.empty()) return NAN;
+  double sum = 0;
+  const int o = static_cast<int>(observable);
+  for (const auto& point : data) {
+    const auto s = predict(model, point);
+    if (!s.ok) return NAN;
+    sum += std::abs(predicted(s, observable) - point.value[o]) / std::abs(point.value[o]);
+  }
+  return sum / static_cast<double>(data.size());
+}
+
+}  // namespace granflow::calibration

@@ -1,0 +1,102 @@
+// Weighted least-squares calibration of closure parameters of the continuum model against steady
+// DEM simple-shear data (docs/calibration.md). The forward model is the steady REV simple shear at
+// each DEM condition (steady_shear_model.hpp), the misfit
+//
+//     χ²(θ) = Σ_i Σ_k [(y_ik - f_k(θ; γ̇_i, p_i)) / σ_ik]²
+//
+// over the conditions i and the chosen observables k (μ, φ, T/(dγ̇)²) with the DEM standard
+// errors σ_ik (batch means, docs/dem_dataset.md). Minimised by Eigen's Levenberg-Marquardt
+// (MINPACK lmdif port, unsupported/Eigen/NonLinearOptimization) with central-difference
+// Jacobians. Covariance of the estimates C = (Jᵀ W J)⁻¹, W = diag(1/σ²), J = ∂f/∂θ at the optimum
+// (not rescaled by χ²_red: the DEM error bars are taken as the noise level; χ²_red ≈ 1 checks it).
+#pragma once
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "analysis/calibration/steady_shear_model.hpp"
+
+namespace granflow::calibration {
+
+// ---- parameters ------------------------------------------------------------------------------
+// A fittable parameter: name (case option and summary key), where its value lives in a case file
+// (empty: no case key exists, see docs/calibration.md), the open interval it must stay in.
+struct ParameterSpec {
+  std::string name;
+  std::string case_key;  // e.g. "collisional.jamming_fraction"
+  double lower, upper;
+  std::string doc;
+};
+const std::vector<ParameterSpec>& parameter_specs();
+const ParameterSpec& parameter_spec(const std::string& name);  // throws std::invalid_argument
+
+// The model being calibrated: the shared sections plus the call-site factors. liquid_viscosity
+// is the reference η0 for `liquid_viscosity_factor`.
+struct CalibratedModel {
+  continuum::MultiRegimeSettings settings;
+  ModelFactors factors;
+  double reference_liquid_viscosity = 1e-3;
+};
+double parameter_value(const CalibratedModel& model, const std::string& name);
+void set_parameter(CalibratedModel& model, const std::string& name, double value);
+// Value to write under the parameter's case key (η0 × factor for liquid_viscosity_factor).
+double case_value(const CalibratedModel& model, const std::string& name);
+
+// ---- observables and data --------------------------------------------------------------------
+enum class Observable { friction, solid_fraction, scaled_temperature };
+const std::vector<std::string>& observable_names();    // in enum order
+Observable parse_observable(const std::string& name);  // throws std::invalid_argument
+constexpr int observable_count = 3;
+
+struct DataPoint {
+  double shear_rate = 0;         // γ̇, 1/s
+  double normal_stress = 0;      // measured steady σ_yy, Pa (the continuum's imposed p)
+  double particle_friction = 0;  // μ_p of the condition (NaN: the material's)
+  double inertial_number = 0;    // DEM I (reporting)
+  double value[observable_count] = {0, 0, 0};
+  double error[observable_count] = {0, 0, 0};
+  int source = 0;  // index of the file it came from
+  int row = 0;     // row in that file's /steady table
+};
+
+struct DemDataset {
+  std::vector<DataPoint> points;  // usable rows (finite values, positive error bars)
+  double diameter = 0, particle_density = 0;
+  std::vector<std::string> skipped;  // one line per skipped row, with the reason
+};
+// Reads /steady of a DEM result.h5 (schema v1, docs/dem_dataset.md). Throws std::runtime_error
+// naming the file and dataset when it is not a DEM dataset.
+DemDataset read_dem_dataset(const std::filesystem::path& file, int source_index);
+
+// ---- fit -------------------------------------------------------------------------------------
+SteadyShearState predict(const CalibratedModel& model, const DataPoint& point);
+double predicted(const SteadyShearState& state, Observable observable);
+
+struct FitResult {
+  std::vector<std::string> names;
+  Eigen::VectorXd initial, estimate, standard_error;
+  Eigen::MatrixXd covariance, correlation;
+  double chi2 = 0, chi2_initial = 0;
+  int residual_count = 0, dof = 0;
+  double chi2_red = 0;
+  int evaluations = 0;                   // forward-model sweeps over the data
+  int status = 0;                        // Eigen LevenbergMarquardt status code
+  bool identifiable = true;              // Jᵀ W J of full rank
+  Eigen::VectorXd normalised_residuals;  // (y - f)/σ at the estimate, point-major
+};
+
+// Fits `names` (each in parameter_specs()) starting from `start`, over `data` and `observables`.
+// Throws std::invalid_argument with fewer residuals than parameters.
+FitResult fit(const CalibratedModel& start, const std::vector<std::string>& names,
+              const std::vector<DataPoint>& data, const std::vector<Observable>& observables,
+              int max_evaluations = 4000);
+CalibratedModel apply(const CalibratedModel& start, const std::vector<std::string>& names,
+                      const Eigen::VectorXd& values);
+
+// Mean over points of |f - y| / |y| for one observable (NaN if any prediction fails).
+double mean_relative_error(const CalibratedModel& model, const std::vector<DataPoint>& data,
+                           Observable observable);
+
+}  // namespace granflow::calibration
