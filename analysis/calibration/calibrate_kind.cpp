@@ -195,6 +195,11 @@ int run_calibrate_case(core::RunContext& ctx) {
   const FitResult r =
       fit(start, names, training, observables, static_cast<int>(c.integer("fit.max_evaluations")));
   const CalibratedModel calibrated = apply(start, names, r.estimate);
+  if (!r.inside_domain)
+    log.warn(
+        "the estimate lies on a parameter bound or where the model cannot carry a condition: "
+        "the fit did not find an interior minimum (see docs/calibration.md); values are not "
+        "trustworthy");
   if (!r.identifiable)
     log.warn("Jᵀ W J is singular: the data do not constrain every parameter (standard errors NaN)");
   log.info(
@@ -218,6 +223,7 @@ int run_calibrate_case(core::RunContext& ctx) {
   sum.set("fit.evaluations", r.evaluations);
   sum.set("fit.status", r.status);
   sum.set("fit.identifiable", r.identifiable ? 1 : 0);
+  sum.set("fit.inside_domain", r.inside_domain ? 1 : 0);
   for (std::size_t k = 0; k < observables.size(); ++k) {
     const std::string& on = observable_names()[static_cast<int>(observables[k])];
     sum.set("train.rel_err." + on, mean_relative_error(calibrated, training, observables[k]));

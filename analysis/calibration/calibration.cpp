@@ -246,19 +246,36 @@ FitResult fit(const CalibratedModel& start, const std::vector<std::string>& name
   out.status = static_cast<int>(lm.minimize(x));
   out.estimate = x;
 
-  // Jacobian of the residuals at the estimate, central differences with step 1e-5 |θ| (as above).
+  // Jacobian of the residuals at the estimate, central differences with step 1e-5 |θ| (as above),
+  // one-sided when the estimate is within a step of a bound.
   functor(x, r);
   Eigen::MatrixXd J(m, n);
   for (int j = 0; j < n; ++j) {
     const double h = 1e-5 * std::max(std::abs(x[j]), 1e-3);
     Eigen::VectorXd xp = x, xm = x, rp(m), rm(m);
-    xp[j] += h;
-    xm[j] -= h;
+    xp[j] = std::min(x[j] + h, 0.5 * (x[j] + functor.specs[j].upper));
+    xm[j] = std::max(x[j] - h, 0.5 * (x[j] + functor.specs[j].lower));
     functor(xp, rp);
     functor(xm, rm);
-    J.col(j) = (rp - rm) / (2 * h);
+    J.col(j) = (rp - rm) / (xp[j] - xm[j]);
   }
   out.chi2 = r.squaredNorm();
+  // On (within 1e-4 of the interval's width of) a bound: LM ran into the wall, not a minimum.
+  for (int j = 0; j < n; ++j) {
+    const double margin = 1e-4 * (functor.specs[j].upper - functor.specs[j].lower);
+    out.inside_domain = out.inside_domain && x[j] > functor.specs[j].lower + margin &&
+                        x[j] < functor.specs[j].upper - margin;
+  }
+  {
+    const CalibratedModel at_estimate = apply(start, names, x);
+    for (const auto& point : data) {
+      try {
+        out.inside_domain = out.inside_domain && predict(at_estimate, point).ok;
+      } catch (const std::exception&) {
+        out.inside_domain = false;
+      }
+    }
+  }
   out.residual_count = m;
   out.dof = m - n;
   out.chi2_red = out.chi2 / out.dof;

@@ -81,9 +81,12 @@ struct FitResult {
   double chi2 = 0, chi2_initial = 0;
   int residual_count = 0, dof = 0;
   double chi2_red = 0;
-  int evaluations = 0;                   // forward-model sweeps over the data
-  int status = 0;                        // Eigen LevenbergMarquardt status code
-  bool identifiable = true;              // Jᵀ W J of full rank
+  int evaluations = 0;       // forward-model sweeps over the data
+  int status = 0;            // Eigen LevenbergMarquardt status code
+  bool identifiable = true;  // Jᵀ W J of full rank
+  // The estimate is inside every parameter's interval and the model carries every condition
+  // there (false: LM stopped on the penalty wall, the estimates are meaningless).
+  bool inside_domain = true;
   Eigen::VectorXd normalised_residuals;  // (y - f)/σ at the estimate, point-major
 };
 
