@@ -60,8 +60,7 @@ core::Schema calibrate_schema() {
               "scaled_temperature (T/(dγ̇)²); the first one is the one holdout.rel_err reports")
       .default_value("friction");
   data.number_list("points", "",
-                   "indices (over all files, in order) of the rows to use; empty: all")
-      .default_value("[]");
+                   "indices (over all files, in order) of the rows to use; absent: all");
   auto& fit = s.section("fit", "the least-squares problem");
   fit.string("parameters",
              "parameters to fit, separated by spaces: restitution, jamming_fraction, "
@@ -79,8 +78,7 @@ core::Schema calibrate_schema() {
               "every_other: hold out the 2nd, 4th, ... used point; list: the indices in "
               "holdout.points")
       .default_value("every_other");
-  holdout.number_list("points", "", "indices (over the used points) held out with mode: list")
-      .default_value("[]");
+  holdout.number_list("points", "", "indices (over the used points) held out with mode: list");
   return s;
 }
 
@@ -116,7 +114,7 @@ void check_calibrate_case(const core::Case& c) {
   if (!c.boolean("collisional.enabled"))
     c.fail("collisional.enabled", "true (the forward model is the collisional steady shear)");
   if (split_names(c.string("data.files")).empty()) c.fail("data.files", "at least one path");
-  if (c.string("holdout.mode") == "list" && c.number_list("holdout.points").empty())
+  if (c.string("holdout.mode") == "list" && !c.has("holdout.points"))
     c.fail("holdout.points", "a non-empty list of indices with holdout.mode: list");
 }
 
@@ -157,7 +155,8 @@ int run_calibrate_case(core::RunContext& ctx) {
     all.insert(all.end(), set.points.begin(), set.points.end());
   }
   std::vector<DataPoint> used;
-  const auto selection = c.number_list("data.points");
+  const auto selection =
+      c.has("data.points") ? c.number_list("data.points") : std::vector<double>{};
   if (selection.empty()) {
     used = all;
   } else {

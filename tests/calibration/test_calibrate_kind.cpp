@@ -1,0 +1,114 @@
+// kind: calibrate end to end on a DEM-schema dataset (docs/dem_dataset.md) written here from the
+// forward model with known noise: summary keys, calibrated.yaml, held-out improvement, bad input.
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "analysis/calibration/calibrate_kind.hpp"
+#include "analysis/calibration/calibration.hpp"
+#include "core/result_file.hpp"
+#include "tests/calibration/synthetic_data.hpp"
+
+namespace granflow::calibration {
+namespace {
+
+const std::filesystem::path work = std::filesystem::path(GRANFLOW_BINARY_DIR) / "test_calibration";
+
+// A /steady table in the DEM schema v1 from synthetic points (frictional, μ_p = 0.5).
+std::filesystem::path write_dem_dataset(const std::vector<DataPoint>& points) {
+  std::filesystem::create_directories(work);
+  const auto file = work / "dem_synthetic.h5";
+  core::ResultFile f(file);
+  auto column = [&](auto get) {
+    std::vector<double> v;
+    for (const auto& p : points) v.push_back(get(p));
+    return v;
+  };
+  const double d = 1e-3;
+  f.write("/steady/shear_rate", column([](auto& p) { return p.shear_rate; }), "1/s", "γ̇");
+  f.write("/steady/normal_stress", column([](auto& p) { return p.normal_stress; }), "Pa", "σ_yy");
+  f.write("/steady/particle_friction", column([](auto&) { return 0.5; }), "1", "μ_p");
+  f.write("/steady/inertial_number", column([](auto& p) { return p.inertial_number; }), "1", "I");
+  f.write("/steady/friction", column([](auto& p) { return p.value[0]; }), "1", "μ");
+  f.write("/steady/friction_err", column([](auto& p) { return p.error[0]; }), "1", "err μ");
+  f.write("/steady/solid_fraction", column([](auto& p) { return p.value[1]; }), "1", "φ");
+  f.write("/steady/solid_fraction_err", column([](auto& p) { return p.error[1]; }), "1", "err");
+  f.write("/steady/scaled_temperature", column([](auto& p) { return p.value[2]; }), "1", "T*");
+  const auto T = [&](const DataPoint& p) { return p.value[2] * std::pow(d * p.shear_rate, 2); };
+  f.write("/steady/granular_temperature", column(T), "m^2/s^2", "T");
+  f.write("/steady/granular_temperature_err",
+          column([&](auto& p) { return p.error[2] * std::pow(d * p.shear_rate, 2); }), "m^2/s^2",
+          "err T");
+  f.attribute("/steady", "diameter", d);
+  f.attribute("/steady", "particle_density", 2500.0);
+  f.flush();
+  return file;
+}
+
+std::string case_text(const std::filesystem::path& data, const std::string& parameters) {
+  return "kind: calibrate\nname: calibrate_synthetic\n"
+         "material: {diameter: 1.0e-3, particle_density: 2500, restitution: 0.7, "
+         "particle_friction: 0.5}\n"
+         "collisional: {jamming_fraction: 0.587}\n"
+         "data: {files: '" +
+         data.string() +
+         "', observables: 'friction solid_fraction scaled_temperature'}\n"
+         "fit: {parameters: '" +
+         parameters + "'}\nholdout: {mode: every_other}\n";
+}
+
+TEST(CalibrateKind, FitsSyntheticDemDatasetAndWritesCalibratedFile) {
+  const auto truth = testing::dry_model(0.8, 0.60);
+  const auto data = write_dem_dataset(testing::synthetic_points(truth, 42, 16));
+  const auto schema = calibrate_schema();
+  const auto c =
+      core::Case::parse(case_text(data, "restitution jamming_fraction"), "test.yaml", {}, schema);
+  check_calibrate_case(c);
+  const auto dir = work / "run";
+  {
+    core::RunContext ctx(c, dir, true, true);
+    ASSERT_EQ(run_calibrate_case(ctx), core::exit_ok);
+    ctx.finish();
+  }
+  const auto s = core::Summary::read(dir / "summary.json");
+  // One noise draw: within 3 standard errors (99.7 % for each parameter).
+  EXPECT_LT(std::abs(s.get("fit.restitution") - 0.8), 3 * s.get("fit.restitution_err"));
+  EXPECT_LT(std::abs(s.get("fit.jamming_fraction") - 0.60), 3 * s.get("fit.jamming_fraction_err"));
+  // χ²_red of 8 points × 3 observables - 2 = 22 dof: sd 0.3; within 1 ± 1.2 (4σ).
+  EXPECT_NEAR(s.get("fit.chi2_red"), 1.0, 1.2);
+  // The start (e_r = 0.7, ν_c = 0.587) is far from the truth (0.8, 0.60) compared with the
+  // noise: the held-out μ must be predicted better after calibration.
+  EXPECT_LT(s.get("holdout.rel_err"), s.get("holdout.rel_err_uncalibrated"));
+  EXPECT_EQ(s.get("holdout.points"), 8);
+  EXPECT_EQ(s.get("fit.inside_domain"), 1);
+  // calibrated.yaml: the fitted values under their case sections, as the summary reports them.
+  const YAML::Node y = YAML::LoadFile((dir / "calibrated.yaml").string());
+  EXPECT_NEAR(y["material"]["restitution"].as<double>(), s.get("fit.restitution"), 1e-9);
+  EXPECT_NEAR(y["collisional"]["jamming_fraction"].as<double>(), s.get("fit.jamming_fraction"),
+              1e-9);
+  EXPECT_TRUE(std::filesystem::exists(dir / "result.h5"));
+  const auto training = core::read_dataset(dir / "result.h5", "/data/training");
+  EXPECT_EQ(training.size(), 16u);
+}
+
+TEST(CalibrateKind, BadParameterNamesAreRefusedAtTheKey) {
+  const auto schema = calibrate_schema();
+  const auto c =
+      core::Case::parse(case_text("x.h5", "restitution viscosity"), "bad.yaml", {}, schema);
+  try {
+    check_calibrate_case(c);
+    FAIL() << "unknown parameter accepted";
+  } catch (const core::CaseError& e) {
+    EXPECT_NE(std::string(e.what()).find("fit.parameters"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("jamming_fraction"), std::string::npos) << e.what();
+  }
+  // The correlation-length constant needs Jenkins' L.
+  const auto c2 =
+      core::Case::parse(case_text("x.h5", "correlation_length_constant"), "bad.yaml", {}, schema);
+  EXPECT_THROW(check_calibrate_case(c2), core::CaseError);
+}
+
+}  // namespace
+}  // namespace granflow::calibration
