@@ -586,6 +586,9 @@ core::Schema rheometer_schema() {
   r.integer("sample_every", "steps between samples of the averaged series")
       .default_value("20")
       .at_least(1);
+  r.boolean("conduct_temperature",
+            "conduct T through the nodes with the collisional conductivity ρ_p d f4 T^½")
+      .default_value("true");
   r.number("steady_fraction", "1", "steady values: means over this last fraction of the run")
       .default_value("0.2")
       .greater_than(0)
@@ -630,6 +633,9 @@ RheometerSpec read_rheometer(const core::Case& c) {
   r.liquid.closure = r.model.liquid_parameters;
   r.liquid.grain_diameter = r.model.collisional_parameters.diameter;
   r.options = read_options(c);
+  // T conducted through the nodes with the collisional conductivity ρ_p d f4 T^½ of each point
+  // when the collisional term is on (seed section 5).
+  r.options.material_conductivity = r.model.collisional && c.boolean("run.conduct_temperature");
   return r;
 }
 
@@ -640,6 +646,8 @@ int run_rheometer(core::RunContext& ctx) {
   Solver& s = *rh.solver;
   maybe_restart(ctx, s);
   report_setup(ctx, s);
+  if (spec.options.material_conductivity)
+    ctx.log->info("T conducted through the nodes with κ_T = ρ_p d f4 T^½ of each point");
   const double ms0 = s.total_mass(Phase::solid), ml0 = s.total_mass(Phase::liquid);
   std::vector<double> gamma(s.solid().size(), 0.0);
   const RheometerAverages a0 = rheometer_averages(s, *rh.material, gamma);

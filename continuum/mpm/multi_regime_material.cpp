@@ -133,6 +133,15 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
     collisional_pressure_[k] = parts.collisional_pressure;
     shear_rate_[k] = continuum::MultiRegimePoint::shear_rate(strain_rate);
     v.temperature[p] = st.granular_temperature;
+    if (v.conductivity) {
+      // κ_T = ρ_p d f4(ν) T^½ (model::collisional_conductivity; model.md §3)
+      v.conductivity[p] = 0.0;
+      if (point_.settings().collisional) {
+        const auto& cp = point_.settings().collisional_parameters;
+        v.conductivity[p] = model::collisional_conductivity(
+            cp, model::collisional_coefficients(cp, st.solid_fraction), st.granular_temperature);
+      }
+    }
     // σ' of the solver (tension positive) = -(σ_FC + σ_COL + σ_L)
     const Eigen::Matrix3d total = parts.total_without_pore_pressure();
     v.sxx[p] = -total(0, 0);

@@ -27,6 +27,9 @@ struct StressUpdateView {
   double* szz;
   double* sxy;
   int threads;  // OpenMP threads the solver runs with (a material may parallelize its loop)
+  // Conductivity κ_T of q = -κ_T ∇T per point, kg/(m s), written by a material with a T
+  // equation when the solver conducts T with material conductivities; nullptr otherwise.
+  double* conductivity = nullptr;
 };
 
 class SolidMaterial {

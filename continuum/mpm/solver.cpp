@@ -135,7 +135,8 @@ void Solver::initialize() {
   nodes_.porosity.assign(nn_, 1.0);
   div_solid_.assign(liquid_.size(), 0.0);
   volumetric_rate_.assign(liquid_.size(), 0.0);
-  if (options_.temperature_conductivity > 0) {
+  point_conductivity_.assign(options_.material_conductivity ? solid_.size() : 0, 0.0);
+  if (options_.temperature_conductivity > 0 || options_.material_conductivity) {
     nodal_temperature_.assign(nn_, 0.0);
     heat_capacity_.assign(nn_, 0.0);
     temperature_gradient_x_.assign(solid_.size(), 0.0);
@@ -239,12 +240,15 @@ TimeStepLimits Solver::compute_limits() const {
         (max_beta * (1.0 / (n_of_max_beta * rho_w) + 1.0 / ((1.0 - n_of_max_beta) * rho_s_min)));
   }
   // Explicit conduction in 2D: κ_T Δt / (C h²) <= 1/4 with C = (3/2) ρ_s (1 - n).
-  if (options_.temperature_conductivity > 0) {
+  double kappa_max = options_.temperature_conductivity;
+  if (options_.material_conductivity)
+    for (double k : point_conductivity_) kappa_max = std::max(kappa_max, k);
+  if (kappa_max > 0) {
     double C = inf;
     for (std::size_t p = 0; p < solid_.size(); ++p) {
       C = std::min(C, 1.5 * solid_.mass[p] / solid_.volume[p]);
     }
-    if (std::isfinite(C)) lim.conduction = 0.25 * h * h * C / options_.temperature_conductivity;
+    if (std::isfinite(C)) lim.conduction = 0.25 * h * h * C / kappa_max;
   }
   return lim;
 }
@@ -306,7 +310,9 @@ void Solver::step_impl(const G& grid) {
     velocity_gradients<G, S>(grid, liquid_.size() > 0);
   }
   constitutive_update();
-  if (options_.temperature_conductivity > 0 && solid_.size() > 0) conduct_temperature<G, S>(grid);
+  if ((options_.temperature_conductivity > 0 || options_.material_conductivity) &&
+      solid_.size() > 0)
+    conduct_temperature<G, S>(grid);
   move_points();
   cache_[0].valid = cache_[1].valid = false;  // the points moved: locate again next step
   time_ += dt_;
@@ -829,8 +835,9 @@ void Solver::conduct_temperature(const G& grid) {
     Stencil st{};
     for (std::size_t p = b; p < e; ++p) {
       if (!locate<G, S>(grid, 0, p, st)) continue;
-      const double qx = kappa * temperature_gradient_x_[p] * sp.volume[p];
-      const double qy = kappa * temperature_gradient_y_[p] * sp.volume[p];
+      const double kappa_p = options_.material_conductivity ? point_conductivity_[p] : kappa;
+      const double qx = kappa_p * temperature_gradient_x_[p] * sp.volume[p];
+      const double qy = kappa_p * temperature_gradient_y_[p] * sp.volume[p];
       for (int k = 0; k < st.count; ++k) acc[st.node[k]] -= st.dNdx[k] * qx + st.dNdy[k] * qy;
     }
   });
@@ -885,7 +892,8 @@ void Solver::constitutive_update() {
   StressUpdateView view{
       solid_.Lxx.data(),      solid_.Lxy.data(),         solid_.Lyx.data(), solid_.Lyy.data(),
       solid_.porosity.data(), solid_.temperature.data(), solid_.sxx.data(), solid_.syy.data(),
-      solid_.szz.data(),      solid_.sxy.data(),         threads_};
+      solid_.szz.data(),      solid_.sxy.data(),         threads_,
+      options_.material_conductivity ? point_conductivity_.data() : nullptr};
   for (auto& m : materials_) m->update_stress(view, dt);
   const long ns = static_cast<long>(solid_.size());
   long bad_solid = -1;

@@ -56,6 +56,9 @@ struct SolverOptions {
   // conductivity κ_T of q = -κ_T ∇T, kg/(m s); 0 = T only carried. (The multi-regime model's
   // ρ_p d f4 T^½ will come through the material interface.)
   double temperature_conductivity = 0.0;
+  // Conduct T with the conductivity each material reports per point (StressUpdateView::
+  // conductivity; the multi-regime material: ρ_p d f4 T^½) instead of the constant above.
+  bool material_conductivity = false;
   bool liquid_volumetric_smoothing = false;  // cell-averaged volumetric rate for p (linear)
   long dt_update_interval = 50;              // recompute the critical step every so many steps
   int threads = 0;                           // 0: OpenMP default
@@ -218,6 +221,7 @@ class Solver {
   std::vector<double> volumetric_rate_;
   std::vector<int> liquid_cell_;
   std::vector<double> temperature_gradient_x_, temperature_gradient_y_;
+  std::vector<double> point_conductivity_;  // κ_T per solid point (material_conductivity)
   std::vector<double> nodal_temperature_,
       heat_capacity_;  // first node of the cell holding each liquid point
   NodeFields nodes_;

@@ -50,11 +50,12 @@ TEST(MpmRheometerMaterial, BatchUpdateEqualsThePointModel) {
   for (std::size_t p = 0; p < n; ++p) ref[p] = point.initial_state(0.818, 50e3, 1.0, 0.0);
   const double dt = 1e-4;
   continuum::StressParts parts[n];
+  std::vector<double> conductivity(n, -1.0);
   for (int step = 0; step < 200; ++step) {
     mpm::StressUpdateView v{Lxx.data(),          Lxy.data(),          Lyx.data(),
                             Lyy.data(),          sp.porosity.data(),  sp.temperature.data(),
                             sp.sxx.data(),       sp.syy.data(),       sp.szz.data(),
-                            sp.sxy.data(),       1};
+                            sp.sxy.data(),       1,                   conductivity.data()};
     m.update_stress(v, dt);
     for (std::size_t p = 0; p < n; ++p) {
       Eigen::Matrix3d rate = Eigen::Matrix3d::Zero();  // compression positive: -D
@@ -76,7 +77,14 @@ TEST(MpmRheometerMaterial, BatchUpdateEqualsThePointModel) {
         << p;
     EXPECT_NEAR(m.locus_size()[p], ref[p].force_chains.r_c, 1e-10 * 50e3) << p;
     EXPECT_GE(sp.temperature[p], 0.0);
+    // κ_T reported for the solver's conduction: ρ_p d f4 T^½ at the point's state.
+    const auto& cp = settings.collisional_parameters;
+    const double kappa = granflow::model::collisional_conductivity(
+        cp, granflow::model::collisional_coefficients(cp, ref[p].solid_fraction),
+        ref[p].granular_temperature);
+    EXPECT_NEAR(conductivity[p], kappa, 1e-10 * std::max(1e-12, kappa)) << p;
   }
+  EXPECT_GT(conductivity[2], 0.0);  // sheared at 100 1/s: T > 0, so κ_T > 0
   // The skeleton sheared: σ_xy non-zero (the test cannot pass on an idle material).
   EXPECT_GT(std::fabs(sp.sxy[0]), 100.0);
   EXPECT_EQ(m.state().size(), 10u);  // σ_FC (4), χ (4), r_c, e: checkpointed
