@@ -22,7 +22,8 @@ MultiRegimeMaterial::MultiRegimeMaterial(continuum::MultiRegimeSettings settings
   const auto& st = point_.settings();
   solid_fraction_limit_ = 0.74;
   if (st.collisional)
-    solid_fraction_limit_ = std::min(solid_fraction_limit_, st.collisional_parameters.jamming_fraction);
+    solid_fraction_limit_ =
+        std::min(solid_fraction_limit_, st.collisional_parameters.jamming_fraction);
   if (st.liquid)
     solid_fraction_limit_ = std::min(solid_fraction_limit_,
                                      model::maximum_mixture_solid_fraction(st.liquid_parameters));
@@ -167,9 +168,9 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
 }
 
 std::vector<std::pair<std::string, std::vector<double>*>> MultiRegimeMaterial::state() {
-  return {{"fc_xx", &fc_xx_},   {"fc_yy", &fc_yy_},   {"fc_zz", &fc_zz_},
-          {"fc_xy", &fc_xy_},   {"chi_xx", &chi_xx_}, {"chi_yy", &chi_yy_},
-          {"chi_zz", &chi_zz_}, {"chi_xy", &chi_xy_}, {"r_c", &r_c_},
+  return {{"fc_xx", &fc_xx_},          {"fc_yy", &fc_yy_},   {"fc_zz", &fc_zz_},
+          {"fc_xy", &fc_xy_},          {"chi_xx", &chi_xx_}, {"chi_yy", &chi_yy_},
+          {"chi_zz", &chi_zz_},        {"chi_xy", &chi_xy_}, {"r_c", &r_c_},
           {"void_ratio", &void_ratio_}};
 }
 

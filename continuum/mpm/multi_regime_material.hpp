@@ -39,7 +39,9 @@ class MultiRegimeMaterial final : public SolidMaterial {
  public:
   MultiRegimeMaterial(continuum::MultiRegimeSettings settings, MultiRegimeInitialState initial);
   const std::string& name() const override { return name_; }
-  double grain_density() const override { return point_.settings().collisional_parameters.particle_density; }
+  double grain_density() const override {
+    return point_.settings().collisional_parameters.particle_density;
+  }
   // Largest constrained modulus over the points at the last update: (3K(p) (1-ν))/(1+ν) of the
   // skeleton's pressure-dependent elasticity (force_chains) at the largest mean σ_FC.
   double p_wave_modulus() const override;

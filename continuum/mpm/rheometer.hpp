@@ -17,14 +17,14 @@ namespace granflow::mpm {
 struct RheometerSpec {
   double inner_radius = 0.08, outer_radius = 0.11;  // m
   int cells_r = 8, cells_theta = 96;
-  int points_per_cell = 2;              // per direction, each phase
-  double void_ratio = 0.818;            // e0
-  double effective_pressure = 50.0e3;   // p'0 after consolidation, Pa
-  double pore_pressure = 50.0e3;        // u_w0, Pa
-  double ocr = 1.0;                     // r_c / (√3 p'0)
-  double initial_temperature = 0.0;     // T0, m²/s²
-  double acceleration = 333.0;          // a of v_θ = a t, m/s²
-  double max_velocity = 1.0;            // v_max, m/s
+  int points_per_cell = 2;             // per direction, each phase
+  double void_ratio = 0.818;           // e0
+  double effective_pressure = 50.0e3;  // p'0 after consolidation, Pa
+  double pore_pressure = 50.0e3;       // u_w0, Pa
+  double ocr = 1.0;                    // r_c / (√3 p'0)
+  double initial_temperature = 0.0;    // T0, m²/s²
+  double acceleration = 333.0;         // a of v_θ = a t, m/s²
+  double max_velocity = 1.0;           // v_max, m/s
   continuum::MultiRegimeSettings model;
   LiquidOptions liquid;
   SolverOptions options;
@@ -41,13 +41,13 @@ Rheometer make_rheometer(const RheometerSpec& spec);
 // Averages over the solid points (volume weighted; "averaged along θ and r" of the seed), with
 // stresses of the solid phase σ' = σ_FC + σ_COL + σ_L, compression positive for σ_G:
 struct RheometerAverages {
-  double shear_stress = 0;    // τ̄ = <σ_rθ> (positive in the sense of the outer ring), Pa
-  double normal_stress = 0;   // σ̄_G = <-(σ'_xx + σ'_yy + σ'_zz)/3>, Pa
-  double shear_strain = 0;    // γ̄ = <γ> (accumulated engineering shear strain γ_rθ)
-  double shear_rate = 0;      // <γ̇_rθ> of the last step, 1/s
-  double mixture_volume = 0;  // Σ V of the solid points, m² (per m)
-  double pore_pressure = 0;   // <p> over the liquid points (volume weighted), Pa
-  double porosity_std = 0;    // standard deviation of n over the solid points
+  double shear_stress = 0;        // τ̄ = <σ_rθ> (positive in the sense of the outer ring), Pa
+  double normal_stress = 0;       // σ̄_G = <-(σ'_xx + σ'_yy + σ'_zz)/3>, Pa
+  double shear_strain = 0;        // γ̄ = <γ> (accumulated engineering shear strain γ_rθ)
+  double shear_rate = 0;          // <γ̇_rθ> of the last step, 1/s
+  double mixture_volume = 0;      // Σ V of the solid points, m² (per m)
+  double pore_pressure = 0;       // <p> over the liquid points (volume weighted), Pa
+  double porosity_std = 0;        // standard deviation of n over the solid points
   double fluidized_fraction = 0;  // volume fraction of solid points with r_c below fluidization
 };
 

@@ -41,7 +41,7 @@ TEST(MpmRheometer, ReducedCaseFluidizesAndConservesMass) {
   // Drop: after fluidization the residual τ̄ is collisional + viscous, tens of Pa at γ̇ ≈ 15 1/s
   // (measured 5 Pa); the bound 0.1 τ̄_peak fails if the material does not fluidize.
   EXPECT_LT(std::fabs(s.get("steady.tau")), 0.1 * s.get("peak.tau"));
-  EXPECT_LT(s.get("steady.sigma_G"), 0.1 * p0);  // σ̄_G dropped with it (measured 6 Pa)
+  EXPECT_LT(s.get("steady.sigma_G"), 0.1 * p0);       // σ̄_G dropped with it (measured 6 Pa)
   EXPECT_GT(s.get("fluidized_fraction.final"), 0.3);  // r_c = 0 over a part (measured 0.74)
   // Points carry fixed masses: exactly zero change.
   EXPECT_EQ(s.get("mass.solid_rel_change"), 0.0);

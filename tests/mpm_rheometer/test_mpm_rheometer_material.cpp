@@ -52,10 +52,18 @@ TEST(MpmRheometerMaterial, BatchUpdateEqualsThePointModel) {
   continuum::StressParts parts[n];
   std::vector<double> conductivity(n, -1.0);
   for (int step = 0; step < 200; ++step) {
-    mpm::StressUpdateView v{Lxx.data(),          Lxy.data(),          Lyx.data(),
-                            Lyy.data(),          sp.porosity.data(),  sp.temperature.data(),
-                            sp.sxx.data(),       sp.syy.data(),       sp.szz.data(),
-                            sp.sxy.data(),       1,                   conductivity.data()};
+    mpm::StressUpdateView v{Lxx.data(),
+                            Lxy.data(),
+                            Lyx.data(),
+                            Lyy.data(),
+                            sp.porosity.data(),
+                            sp.temperature.data(),
+                            sp.sxx.data(),
+                            sp.syy.data(),
+                            sp.szz.data(),
+                            sp.sxy.data(),
+                            1,
+                            conductivity.data()};
     m.update_stress(v, dt);
     for (std::size_t p = 0; p < n; ++p) {
       Eigen::Matrix3d rate = Eigen::Matrix3d::Zero();  // compression positive: -D
@@ -93,7 +101,8 @@ TEST(MpmRheometerMaterial, BatchUpdateEqualsThePointModel) {
 TEST(MpmRheometerMaterial, RegistryBuildsItByName) {
   mpm::MaterialRegistry r = mpm::default_material_registry();
   mpm::register_multi_regime_material(r, section4_settings());
-  auto m = r.create("multi_regime", {{"effective_pressure", 50e3}, {"ocr", 1.0}, {"temperature", 0}});
+  auto m =
+      r.create("multi_regime", {{"effective_pressure", 50e3}, {"ocr", 1.0}, {"temperature", 0}});
   EXPECT_EQ(m->name(), "multi_regime");
   EXPECT_DOUBLE_EQ(m->grain_density(), 2650.0);
   EXPECT_GT(m->p_wave_modulus(), 1e6);  // skeleton at 50 kPa: K ≈ 28 MPa
