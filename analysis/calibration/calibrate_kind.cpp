@@ -61,6 +61,10 @@ core::Schema calibrate_schema() {
       .default_value("friction");
   data.number_list("points", "",
                    "indices (over all files, in order) of the rows to use; absent: all");
+  data.number("particle_friction", "",
+              "use only the rows with this μ_p (a sweep over friction holds several materials; "
+              "ν_c and ε depend on μ_p); absent: all rows, each predicted with its own μ_p")
+      .at_least(0);
   auto& fit = s.section("fit", "the least-squares problem");
   fit.string("parameters",
              "parameters to fit, separated by spaces: restitution, jamming_fraction, "
@@ -152,8 +156,13 @@ int run_calibrate_case(core::RunContext& ctx) {
           "kg/m³); the case's material is used",
           path.string(), set.diameter, set.particle_density, col.diameter, col.particle_density);
     log.info("{}: {} usable conditions", path.string(), set.points.size());
-    all.insert(all.end(), set.points.begin(), set.points.end());
+    for (const auto& point : set.points)
+      if (!c.has("data.particle_friction") ||
+          std::abs(point.particle_friction - c.number("data.particle_friction")) < 1e-12)
+        all.push_back(point);
   }
+  if (all.empty())
+    c.fail("data.files", "datasets with usable rows (and data.particle_friction matching one)");
   std::vector<DataPoint> used;
   const auto selection =
       c.has("data.points") ? c.number_list("data.points") : std::vector<double>{};

@@ -89,6 +89,8 @@ TEST(CalibrateKind, FitsSyntheticDemDatasetAndWritesCalibratedFile) {
   EXPECT_NEAR(y["collisional"]["jamming_fraction"].as<double>(), s.get("fit.jamming_fraction"),
               1e-9);
   EXPECT_TRUE(std::filesystem::exists(dir / "result.h5"));
+  // plot_calibration.py ran (python3-matplotlib and h5py are Debian dependencies of the project)
+  EXPECT_TRUE(std::filesystem::exists(dir / "calibration.png"));
   const auto training = core::read_dataset(dir / "result.h5", "/data/training");
   EXPECT_EQ(training.size(), 16u);
 }
@@ -108,6 +110,25 @@ TEST(CalibrateKind, BadParameterNamesAreRefusedAtTheKey) {
   const auto c2 =
       core::Case::parse(case_text("x.h5", "correlation_length_constant"), "bad.yaml", {}, schema);
   EXPECT_THROW(check_calibrate_case(c2), core::CaseError);
+}
+
+}  // namespace
+}  // namespace granflow::calibration
+
+namespace granflow::calibration {
+namespace {
+
+TEST(CalibrateKind, ShippedCaseFilesValidate) {
+  const auto schema = calibrate_schema();
+  const auto dir = std::filesystem::path(GRANFLOW_SOURCE_DIR) / "cases" / "calibrate";
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().extension() != ".yaml") continue;
+    const auto c = core::Case::load(entry.path(), {}, schema);
+    EXPECT_NO_THROW(check_calibrate_case(c)) << entry.path();
+    ++count;
+  }
+  EXPECT_GE(count, 2);
 }
 
 }  // namespace
