@@ -3,10 +3,12 @@
 #pragma once
 
 #include <cmath>
+#include <filesystem>
 #include <random>
 #include <vector>
 
 #include "analysis/calibration/calibration.hpp"
+#include "core/result_file.hpp"
 
 namespace granflow::calibration::testing {
 
@@ -47,6 +49,37 @@ inline std::vector<DataPoint> synthetic_points(const CalibratedModel& truth, uns
     out.push_back(p);
   }
   return out;
+}
+
+// A /steady table in the DEM schema v1 from synthetic points (frictional, μ_p = 0.5).
+inline std::filesystem::path write_dem_dataset(const std::vector<DataPoint>& points,
+                                               const std::filesystem::path& file) {
+  std::filesystem::create_directories(file.parent_path());
+  core::ResultFile f(file);
+  auto column = [&](auto get) {
+    std::vector<double> v;
+    for (const auto& p : points) v.push_back(get(p));
+    return v;
+  };
+  const double d = 1e-3;
+  f.write("/steady/shear_rate", column([](auto& p) { return p.shear_rate; }), "1/s", "γ̇");
+  f.write("/steady/normal_stress", column([](auto& p) { return p.normal_stress; }), "Pa", "σ_yy");
+  f.write("/steady/particle_friction", column([](auto&) { return 0.5; }), "1", "μ_p");
+  f.write("/steady/inertial_number", column([](auto& p) { return p.inertial_number; }), "1", "I");
+  f.write("/steady/friction", column([](auto& p) { return p.value[0]; }), "1", "μ");
+  f.write("/steady/friction_err", column([](auto& p) { return p.error[0]; }), "1", "err μ");
+  f.write("/steady/solid_fraction", column([](auto& p) { return p.value[1]; }), "1", "φ");
+  f.write("/steady/solid_fraction_err", column([](auto& p) { return p.error[1]; }), "1", "err");
+  f.write("/steady/scaled_temperature", column([](auto& p) { return p.value[2]; }), "1", "T*");
+  const auto T = [&](const DataPoint& p) { return p.value[2] * std::pow(d * p.shear_rate, 2); };
+  f.write("/steady/granular_temperature", column(T), "m^2/s^2", "T");
+  f.write("/steady/granular_temperature_err",
+          column([&](auto& p) { return p.error[2] * std::pow(d * p.shear_rate, 2); }), "m^2/s^2",
+          "err T");
+  f.attribute("/steady", "diameter", d);
+  f.attribute("/steady", "particle_density", 2500.0);
+  f.flush();
+  return file;
 }
 
 }  // namespace granflow::calibration::testing

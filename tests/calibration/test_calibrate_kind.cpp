@@ -8,44 +8,12 @@
 
 #include "analysis/calibration/calibrate_kind.hpp"
 #include "analysis/calibration/calibration.hpp"
-#include "core/result_file.hpp"
 #include "tests/calibration/synthetic_data.hpp"
 
 namespace granflow::calibration {
 namespace {
 
 const std::filesystem::path work = std::filesystem::path(GRANFLOW_BINARY_DIR) / "test_calibration";
-
-// A /steady table in the DEM schema v1 from synthetic points (frictional, μ_p = 0.5).
-std::filesystem::path write_dem_dataset(const std::vector<DataPoint>& points) {
-  std::filesystem::create_directories(work);
-  const auto file = work / "dem_synthetic.h5";
-  core::ResultFile f(file);
-  auto column = [&](auto get) {
-    std::vector<double> v;
-    for (const auto& p : points) v.push_back(get(p));
-    return v;
-  };
-  const double d = 1e-3;
-  f.write("/steady/shear_rate", column([](auto& p) { return p.shear_rate; }), "1/s", "γ̇");
-  f.write("/steady/normal_stress", column([](auto& p) { return p.normal_stress; }), "Pa", "σ_yy");
-  f.write("/steady/particle_friction", column([](auto&) { return 0.5; }), "1", "μ_p");
-  f.write("/steady/inertial_number", column([](auto& p) { return p.inertial_number; }), "1", "I");
-  f.write("/steady/friction", column([](auto& p) { return p.value[0]; }), "1", "μ");
-  f.write("/steady/friction_err", column([](auto& p) { return p.error[0]; }), "1", "err μ");
-  f.write("/steady/solid_fraction", column([](auto& p) { return p.value[1]; }), "1", "φ");
-  f.write("/steady/solid_fraction_err", column([](auto& p) { return p.error[1]; }), "1", "err");
-  f.write("/steady/scaled_temperature", column([](auto& p) { return p.value[2]; }), "1", "T*");
-  const auto T = [&](const DataPoint& p) { return p.value[2] * std::pow(d * p.shear_rate, 2); };
-  f.write("/steady/granular_temperature", column(T), "m^2/s^2", "T");
-  f.write("/steady/granular_temperature_err",
-          column([&](auto& p) { return p.error[2] * std::pow(d * p.shear_rate, 2); }), "m^2/s^2",
-          "err T");
-  f.attribute("/steady", "diameter", d);
-  f.attribute("/steady", "particle_density", 2500.0);
-  f.flush();
-  return file;
-}
 
 std::string case_text(const std::filesystem::path& data, const std::string& parameters) {
   return "kind: calibrate\nname: calibrate_synthetic\n"
@@ -61,7 +29,8 @@ std::string case_text(const std::filesystem::path& data, const std::string& para
 
 TEST(CalibrateKind, FitsSyntheticDemDatasetAndWritesCalibratedFile) {
   const auto truth = testing::dry_model(0.8, 0.60);
-  const auto data = write_dem_dataset(testing::synthetic_points(truth, 42, 16));
+  const auto data = testing::write_dem_dataset(testing::synthetic_points(truth, 42, 16),
+                                               work / "dem_synthetic.h5");
   const auto schema = calibrate_schema();
   const auto c =
       core::Case::parse(case_text(data, "restitution jamming_fraction"), "test.yaml", {}, schema);

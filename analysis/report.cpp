@@ -1,0 +1,159 @@
+#include "analysis/report.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/result_file.hpp"
+#include "core/run.hpp"
+
+namespace granflow::analysis {
+
+namespace {
+
+std::string number(double v) {
+  if (std::isnan(v)) return "NaN";
+  return fmt::format("{:.6g}", v);
+}
+
+// "kind: calibrate" -> "calibrate" from the resolved case.yaml (first matching line).
+std::string case_value(const std::filesystem::path& case_file, const std::string& key) {
+  std::ifstream in(case_file);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind(key + ":", 0) == 0) {
+      std::string v = line.substr(key.size() + 1);
+      v.erase(0, v.find_first_not_of(" \t\"'"));
+      while (!v.empty() && (v.back() == ' ' || v.back() == '"' || v.back() == '\'')) v.pop_back();
+      return v;
+    }
+  }
+  return "";
+}
+
+// Summary keys "a.b.c": group by the first component.
+std::map<std::string, std::vector<std::pair<std::string, double>>> grouped(const core::Summary& s) {
+  std::map<std::string, std::vector<std::pair<std::string, double>>> out;
+  for (const auto& [key, value] : s.values()) {
+    const auto dot = key.find('.');
+    out[dot == std::string::npos ? key : key.substr(0, dot)].push_back({key, value});
+  }
+  return out;
+}
+
+void calibrate_section(std::ostream& md, const core::Summary& s) {
+  std::vector<std::string> parameters;
+  for (const auto& [key, value] : s.values()) {
+    if (key.rfind("fit.", 0) != 0) continue;
+    const std::string name = key.substr(4);
+    if (s.contains(key + "_err") && s.contains(key + "_initial")) parameters.push_back(name);
+  }
+  md << "## Calibration\n\n| parameter | estimate | standard error | start |\n|---|---|---|---|\n";
+  for (const auto& p : parameters)
+    md << fmt::format("| {} | {} | {} | {} |\n", p, number(s.get("fit." + p)),
+                      number(s.get("fit." + p + "_err")), number(s.get("fit." + p + "_initial")));
+  md << "\n";
+  if (s.contains("fit.chi2_red"))
+    md << fmt::format(
+        "χ²_red = {} ({} degrees of freedom; ≈ 1 when the model and the DEM error "
+        "bars are consistent).\n\n",
+        number(s.get("fit.chi2_red")), s.contains("fit.dof") ? number(s.get("fit.dof")) : "?");
+  if (s.contains("fit.inside_domain") && s.get("fit.inside_domain") == 0)
+    md << "**Warning:** the estimate lies on a parameter bound; it is not a minimum.\n\n";
+  if (s.contains("fit.identifiable") && s.get("fit.identifiable") == 0)
+    md << "**Warning:** the data do not constrain every parameter (singular Jᵀ W J).\n\n";
+  if (s.contains("holdout.rel_err"))
+    md << fmt::format(
+        "Held-out check ({} points): mean relative error {} calibrated vs {} uncalibrated.\n\n",
+        s.contains("holdout.points") ? number(s.get("holdout.points")) : "?",
+        number(s.get("holdout.rel_err")),
+        s.contains("holdout.rel_err_uncalibrated") ? number(s.get("holdout.rel_err_uncalibrated"))
+                                                   : "?");
+  md << "Calibrated parameter file: [calibrated.yaml](calibrated.yaml).\n\n";
+}
+
+void pair_section(std::ostream& md, const core::Summary& s) {
+  if (!s.contains("pair.count")) return;
+  const int count = static_cast<int>(s.get("pair.count"));
+  // Columns in issue 6's key order, then any other per-point pair.N.* key.
+  std::vector<std::string> columns = {"mu_dem", "mu_dem_err", "mu_cont", "rel_err_mu",
+                                      "e_dem",  "e_cont",     "T_dem",   "T_cont"};
+  std::set<std::string> known(columns.begin(), columns.end());
+  for (const auto& [key, value] : s.values()) {
+    if (key.rfind("pair.0.", 0) != 0) continue;
+    const std::string name = key.substr(7);
+    if (known.insert(name).second) columns.push_back(name);
+  }
+  md << "## DEM and continuum, point by point\n\n| point |";
+  for (const auto& c : columns) md << " " << c << " |";
+  md << "\n|---|";
+  for (std::size_t i = 0; i < columns.size(); ++i) md << "---|";
+  md << "\n";
+  for (int n = 0; n < count; ++n) {
+    md << "| " << n << " |";
+    for (const auto& c : columns) {
+      const std::string key = fmt::format("pair.{}.{}", n, c);
+      md << " " << (s.contains(key) ? number(s.get(key)) : "") << " |";
+    }
+    md << "\n";
+  }
+  md << "\n";
+}
+
+}  // namespace
+
+std::filesystem::path write_report(const std::filesystem::path& run_dir) {
+  const auto summary_file = run_dir / "summary.json";
+  if (!std::filesystem::exists(summary_file))
+    throw std::runtime_error(
+        fmt::format("{}: no summary.json; expected the directory of a finished granflow run",
+                    run_dir.string()));
+  const core::Summary s = core::Summary::read(summary_file);
+  const auto case_file = run_dir / "case.yaml";
+  const std::string kind = case_value(case_file, "kind");
+  std::string name = case_value(case_file, "name");
+  if (name.empty()) name = run_dir.filename().string();
+  const std::string description = case_value(case_file, "description");
+
+  std::ostringstream md;
+  md << "# " << name << "\n\n";
+  md << "Kind: `" << (kind.empty() ? "?" : kind) << "`";
+  const std::string test = case_value(case_file, "test");
+  if (!test.empty()) md << ", test: `" << test << "`";
+  md << ". Run directory: `" << run_dir.string() << "`.\n\n";
+  if (!description.empty()) md << description << "\n\n";
+  if (kind == "calibrate") calibrate_section(md, s);
+  if (kind == "pair") pair_section(md, s);
+
+  std::vector<std::filesystem::path> pngs;
+  for (const auto& entry : std::filesystem::directory_iterator(run_dir))
+    if (entry.path().extension() == ".png") pngs.push_back(entry.path().filename());
+  std::sort(pngs.begin(), pngs.end());
+  if (!pngs.empty()) {
+    md << "## Plots\n\n";
+    for (const auto& png : pngs)
+      md << "![" << png.stem().string() << "](" << png.string() << ")\n\n";
+  }
+
+  md << "## Summary (summary.json)\n\n";
+  for (const auto& [group, rows] : grouped(s)) {
+    md << "### " << group << "\n\n| key | value |\n|---|---|\n";
+    for (const auto& [key, value] : rows) md << "| `" << key << "` | " << number(value) << " |\n";
+    md << "\n";
+  }
+  md << "Files: [case.yaml](case.yaml) (the case as run), result.h5 (data), "
+        "[log.txt](log.txt).\n";
+  const auto out = run_dir / "report.md";
+  std::ofstream(out) << md.str();
+  return out;
+}
+
+}  // namespace granflow::analysis
