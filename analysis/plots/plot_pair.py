@@ -1,0 +1,59 @@
+#!/usr/bin/env python3
+"""PNG plots of a `kind: pair` run (analysis/pair): DEM (± error) and continuum side by side vs I
+for μ, φ and T/(d γ̇)² (pair.png), and the relative errors of μ, e, T per point (pair_errors.png).
+Usage: plot_pair.py RUN_DIR"""
+import os
+import sys
+
+import h5py
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+REGIMES = {0: "quasi-static", 1: "dense inertial", 2: "collisional", 3: "viscous"}
+
+
+def main(run):
+    with h5py.File(os.path.join(run, "result.h5"), "r") as h5:
+        g = h5["pair"]
+        I = g["I_dem"][:]
+        gd = g["shear_rate"][:]
+        order = np.argsort(I)
+        fig, axes = plt.subplots(1, 3, figsize=(14, 4))
+        panels = [("mu", "μ = τ/σ_yy", False), ("phi", "φ", False), ("T", "T [m²/s²]", True)]
+        for ax, (name, label, log) in zip(axes, panels):
+            y = g[name + "_dem"][:]
+            err = g[name + "_dem_err"][:]
+            ax.errorbar(I, y, yerr=err, fmt="ko", capsize=2, label="DEM (LIGGGHTS)")
+            ax.plot(I[order], g[name + "_cont"][:][order], "r-", marker="s", ms=4,
+                    label="continuum (steady REV)")
+            ax.set_xscale("log")
+            if log:
+                ax.set_yscale("log")
+            ax.set(xlabel="inertial number I", ylabel=label)
+        axes[0].legend(fontsize=8)
+        for i in range(len(I)):
+            axes[0].annotate(REGIMES.get(int(g["regime"][i]), "?"), (I[i], g["mu_dem"][i]),
+                             fontsize=6, xytext=(3, 3), textcoords="offset points")
+        fig.suptitle(f"DEM vs continuum, {len(I)} points (γ̇ = {', '.join(f'{v:g}' for v in gd)} 1/s)")
+        fig.tight_layout()
+        fig.savefig(os.path.join(run, "pair.png"), dpi=120)
+        plt.close(fig)
+
+        fig, ax = plt.subplots(figsize=(6, 3.8))
+        for name, style in (("rel_err_mu", "o-"), ("rel_err_e", "s-"), ("rel_err_T", "^-")):
+            ax.plot(I[order], 100 * g[name][:][order], style, label=name.replace("rel_err_", ""))
+        ax.axhline(0, color="k", lw=0.8)
+        ax.set_xscale("log")
+        ax.set(xlabel="inertial number I", ylabel="continuum / DEM − 1 [%]",
+               title="relative difference, point by point")
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(os.path.join(run, "pair_errors.png"), dpi=120)
+        plt.close(fig)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])
