@@ -10,6 +10,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 
 REGIMES = {0: "quasi-static", 1: "dense inertial", 2: "collisional", 3: "viscous"}
@@ -30,6 +31,7 @@ def main(run):
             ax.plot(I[order], g[name + "_cont"][:][order], "r-", marker="s", ms=4,
                     label="continuum (steady REV)")
             ax.set_xscale("log")
+            ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())  # narrow ranges
             if log:
                 ax.set_yscale("log")
             ax.set(xlabel="inertial number I", ylabel=label)

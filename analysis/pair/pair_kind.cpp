@@ -1,0 +1,203 @@
+#include "analysis/pair/pair_kind.hpp"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <set>
+
+#include "analysis/calibration/calibration.hpp"
+#include "continuum/multi_regime/model_sections.hpp"
+#include "dem_coupling/dem_kind.hpp"
+
+namespace granflow::pair {
+
+namespace {
+
+// The DEM case of a pair case: the same file without the continuum-only sections, kind: dem.
+// `schema` must outlive the returned Case (it refers to it).
+core::Case dem_case(const core::Case& c, const core::Schema& schema) {
+  YAML::Node root = YAML::Load(c.resolved_yaml());
+  root.remove("collisional");
+  root.remove("liquid");
+  root["kind"] = "dem";
+  YAML::Emitter out;
+  out << root;
+  return core::Case::parse(out.c_str(), c.origin() + " (DEM part)", {}, schema);
+}
+
+}  // namespace
+
+int dry_regime(double I) { return I < 1e-3 ? 0 : (I < 0.1 ? 1 : 2); }
+
+const char* regime_name(int regime) {
+  switch (regime) {
+    case 0:
+      return "quasi-static";
+    case 1:
+      return "dense inertial";
+    case 2:
+      return "collisional";
+    default:
+      return "viscous";
+  }
+}
+
+core::Schema pair_schema() {
+  core::Schema s = core::kind_header(
+      "pair", "",
+      "DEM (kind: dem, LIGGGHTS) and continuum steady simple shear at the same conditions from "
+      "one material description; side-by-side table with relative errors and regimes.");
+  const core::Schema dem = dem::shear_schema();
+  const std::set<std::string> header = {"kind", "test", "name", "description"};
+  for (const auto& child : dem.children())
+    if (!header.count(child.key())) s.add(child);
+  s.add(continuum::collisional_section());
+  s.add(continuum::liquid_section());
+  return s;
+}
+
+void check_pair_case(const core::Case& c) {
+  if (c.boolean("liquid.enabled"))
+    c.fail("liquid.enabled",
+           "false: the DEM of kind: dem is dry (the immersed DEM of issue 5 is not paired yet)");
+  if (!c.boolean("collisional.enabled"))
+    c.fail("collisional.enabled", "true (the continuum side is the collisional steady shear)");
+  if (c.string("control.mode") != "constant_pressure")
+    c.fail("control.mode",
+           "constant_pressure (the continuum is driven at each DEM condition's measured σ_yy)");
+  core::KindRegistry registry;
+  dem::register_dem_kinds(registry);
+  const auto& entry = registry.find("dem", "", c.origin());
+  const core::Case d = dem_case(c, entry.schema);
+  if (entry.check) entry.check(d);
+}
+
+int run_pair_case(core::RunContext& ctx) {
+  const core::Case& c = ctx.run_case;
+  auto& log = *ctx.log;
+  // ---- DEM side: the dem kind's own run function in RUN_DIR/dem/
+  core::KindRegistry registry;
+  dem::register_dem_kinds(registry);
+  const auto& entry = registry.find("dem", "", c.origin());
+  const core::Case d = dem_case(c, entry.schema);
+  const auto dem_dir = ctx.directory.path() / "dem";
+  log.info("DEM part: kind dem in {} (log: dem/log.txt)", dem_dir.string());
+  int code = 0;
+  {
+    core::RunContext dem_ctx(d, dem_dir, true, true);
+    code = entry.run(dem_ctx);
+    dem_ctx.finish();
+  }
+  if (code != core::exit_ok) {
+    log.error("the DEM part failed (exit {}); see {}", code, (dem_dir / "log.txt").string());
+    return code;
+  }
+  const auto data = calibration::read_dem_dataset(dem_dir / "result.h5", 0);
+  for (const auto& why : data.skipped) log.warn("DEM {}", why);
+
+  // ---- continuum side: steady REV simple shear at each DEM condition (γ̇, measured σ_yy, μ_p)
+  calibration::CalibratedModel model;
+  model.settings = continuum::read_multi_regime_settings(c);
+  const double d_mean = c.number("material.diameter"),
+               rho_p = c.number("material.particle_density");
+  const double alpha = c.number("liquid.trulsson_alpha");
+  std::vector<std::vector<double>> cols(21);
+  enum {
+    shear_rate,
+    normal_stress,
+    mu_dem,
+    mu_dem_err,
+    mu_cont,
+    phi_dem,
+    phi_dem_err,
+    phi_cont,
+    e_dem,
+    e_cont,
+    T_dem,
+    T_dem_err,
+    T_cont,
+    I_dem,
+    I_cont,
+    K_dem,
+    K_cont,
+    rel_mu,
+    rel_e,
+    rel_T,
+    regime
+  };
+  auto& sum = ctx.summary;
+  int n = 0;
+  for (const auto& p : data.points) {
+    const auto s = calibration::predict(model, p);
+    const double scale = std::pow(d_mean * p.shear_rate, 2);  // T = T* (d γ̇)²
+    const double T_d = p.value[2] * scale, T_c = s.ok ? s.granular_temperature : NAN;
+    const double phi = p.value[1];
+    const double e_d = 1.0 / phi - 1.0, e_c = s.ok ? 1.0 / s.solid_fraction - 1.0 : NAN;
+    const double mu_c = s.ok ? s.friction : NAN;
+    const double I_d = p.shear_rate * d_mean / std::sqrt(p.normal_stress / rho_p);
+    const double row[21] = {p.shear_rate,
+                            p.normal_stress,
+                            p.value[0],
+                            p.error[0],
+                            mu_c,
+                            phi,
+                            p.error[1],
+                            s.ok ? s.solid_fraction : NAN,
+                            e_d,
+                            e_c,
+                            T_d,
+                            p.error[2] * scale,
+                            T_c,
+                            I_d,
+                            s.ok ? s.inertial_number : NAN,
+                            alpha * I_d * I_d,  // K = J + α I², J = 0 (dry)
+                            s.ok ? alpha * s.inertial_number * s.inertial_number : NAN,
+                            mu_c / p.value[0] - 1.0,
+                            e_c / e_d - 1.0,
+                            T_c / T_d - 1.0,
+                            double(dry_regime(I_d))};
+    for (int k = 0; k < 21; ++k) cols[k].push_back(row[k]);
+    const std::string key = fmt::format("pair.{}.", n);
+    sum.set(key + "mu_dem", p.value[0]);
+    sum.set(key + "mu_dem_err", p.error[0]);
+    sum.set(key + "mu_cont", mu_c);
+    sum.set(key + "T_dem", T_d);
+    sum.set(key + "T_cont", T_c);
+    sum.set(key + "e_dem", e_d);
+    sum.set(key + "e_cont", e_c);
+    sum.set(key + "rel_err_mu", row[rel_mu]);
+    sum.set(key + "I_dem", I_d);
+    sum.set(key + "regime", row[regime]);
+    log.info(
+        "point {}: γ̇ = {:g} 1/s, I = {:.3g} ({}): μ DEM {:.4g} ± {:.2g} vs continuum {:.4g} "
+        "({:+.1f} %), e {:.4g} vs {:.4g}, T {:.3g} vs {:.3g} m²/s²{}",
+        n, p.shear_rate, I_d, regime_name(dry_regime(I_d)), p.value[0], p.error[0], mu_c,
+        100 * row[rel_mu], e_d, e_c, T_d, T_c, s.ok ? "" : fmt::format(" ({})", s.why));
+    ++n;
+  }
+  sum.set("pair.count", n);
+  const char* names[21] = {"shear_rate", "normal_stress", "mu_dem",     "mu_dem_err", "mu_cont",
+                           "phi_dem",    "phi_dem_err",   "phi_cont",   "e_dem",      "e_cont",
+                           "T_dem",      "T_dem_err",     "T_cont",     "I_dem",      "I_cont",
+                           "K_dem",      "K_cont",        "rel_err_mu", "rel_err_e",  "rel_err_T",
+                           "regime"};
+  const char* units[21] = {"1/s",     "Pa",      "1", "1", "1", "1", "1", "1", "1", "1", "m^2/s^2",
+                           "m^2/s^2", "m^2/s^2", "1", "1", "1", "1", "1", "1", "1", "1"};
+  for (int k = 0; k < 21; ++k)
+    ctx.result.write(std::string("/pair/") + names[k], cols[k], units[k],
+                     k == regime ? "regime of the DEM point: 0 quasi-static (I < 1e-3), 1 dense "
+                                   "inertial, 2 collisional (I >= 0.1)"
+                                 : std::string(names[k]) +
+                                       " (_dem: DEM steady ± batch-means error, _cont: continuum "
+                                       "steady simple shear at the DEM γ̇ and σ_yy)");
+  ctx.plot("plot_pair.py");
+  return core::exit_ok;
+}
+
+void register_pair_kinds(core::KindRegistry& registry) {
+  registry.add({"pair", "", "DEM and continuum steady simple shear side by side (one material)",
+                pair_schema(), check_pair_case, run_pair_case, "cases/pair/dry_pair.yaml"});
+}
+
+}  // namespace granflow::pair
