@@ -86,3 +86,27 @@ TEST(PairKind, WetPairIsRefusedUntilTheImmersedDemIsPaired) {
 
 }  // namespace
 }  // namespace granflow::pair
+
+namespace granflow::pair {
+namespace {
+
+TEST(PairKind, ShippedCaseFilesValidate) {
+  const auto schema = pair_schema();
+  const auto dir = std::filesystem::path(GRANFLOW_SOURCE_DIR) / "cases" / "pair";
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().extension() != ".yaml") continue;
+    EXPECT_NO_THROW(check_pair_case(core::Case::load(entry.path(), {}, schema))) << entry.path();
+    ++count;
+  }
+  EXPECT_GE(count, 1);
+}
+
+TEST(PairKind, RegimesByInertialNumber) {
+  EXPECT_STREQ(regime_name(dry_regime(1e-4)), "quasi-static");
+  EXPECT_STREQ(regime_name(dry_regime(0.01)), "dense inertial");
+  EXPECT_STREQ(regime_name(dry_regime(0.2)), "collisional");
+}
+
+}  // namespace
+}  // namespace granflow::pair
