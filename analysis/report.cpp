@@ -101,7 +101,13 @@ void pair_section(std::ostream& md, const core::Summary& s) {
     md << "| " << n << " |";
     for (const auto& c : columns) {
       const std::string key = fmt::format("pair.{}.{}", n, c);
-      md << " " << (s.contains(key) ? number(s.get(key)) : "") << " |";
+      std::string cell = s.contains(key) ? number(s.get(key)) : "";
+      if (c == "regime" && s.contains(key)) {  // analysis/pair: 0..3 -> name
+        static const char* regimes[] = {"quasi-static", "dense inertial", "collisional", "viscous"};
+        const int r = static_cast<int>(s.get(key));
+        if (r >= 0 && r < 4) cell = regimes[r];
+      }
+      md << " " << cell << " |";
     }
     md << "\n";
   }

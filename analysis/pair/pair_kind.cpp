@@ -85,7 +85,7 @@ int run_pair_case(core::RunContext& ctx) {
   log.info("DEM part: kind dem in {} (log: dem/log.txt)", dem_dir.string());
   int code = 0;
   {
-    core::RunContext dem_ctx(d, dem_dir, true, true);
+    core::RunContext dem_ctx(d, dem_dir, true, false);  // its progress on stderr too
     code = entry.run(dem_ctx);
     dem_ctx.finish();
   }
