@@ -102,3 +102,55 @@ TEST(CalibrateKind, ShippedCaseFilesValidate) {
 
 }  // namespace
 }  // namespace granflow::calibration
+
+namespace granflow::calibration {
+namespace {
+
+TEST(CalibrateKind, NamedHoldoutListAndMissingDataFile) {
+  const auto work = std::filesystem::path(GRANFLOW_BINARY_DIR) / "test_calibration_list";
+  const auto data = testing::write_dem_dataset(
+      testing::synthetic_points(testing::dry_model(0.8, 0.60), 3, 8), work / "dem.h5");
+  const auto schema = calibrate_schema();
+  const std::string text =
+      "kind: calibrate\nmaterial: {diameter: 1.0e-3, particle_density: 2500, "
+      "restitution: 0.7}\ndata: {files: '" +
+      data.string() +
+      "', observables: 'solid_fraction friction'}\n"
+      "fit: {parameters: 'jamming_fraction'}\n"
+      "holdout: {mode: list, points: [0, 5]}\n";
+  const auto c = core::Case::parse(text, "list.yaml", {}, schema);
+  check_calibrate_case(c);
+  {
+    core::RunContext ctx(c, work / "run", true, true);
+    ASSERT_EQ(run_calibrate_case(ctx), core::exit_ok);
+    ctx.finish();
+  }
+  const auto s = core::Summary::read(work / "run" / "summary.json");
+  EXPECT_EQ(s.get("holdout.points"), 2);
+  EXPECT_EQ(s.get("fit.points"), 6);
+  const auto training = core::read_dataset(work / "run" / "result.h5", "/data/training");
+  ASSERT_EQ(training.size(), 8u);
+  EXPECT_EQ(training[0], 0);
+  EXPECT_EQ(training[5], 0);
+  EXPECT_EQ(training[1], 1);
+  // ν_c from φ (the first observable, which holdout.rel_err reports): within 3 standard errors.
+  EXPECT_LT(std::abs(s.get("fit.jamming_fraction") - 0.60), 3 * s.get("fit.jamming_fraction_err"));
+  EXPECT_NEAR(s.get("holdout.rel_err"), s.get("holdout.rel_err.solid_fraction"), 1e-15);
+
+  // A missing dataset is refused at data.files, naming the path.
+  const auto bad = core::Case::parse(
+      "kind: calibrate\nmaterial: {diameter: 1.0e-3, particle_density: 2500, restitution: 0.7}\n"
+      "data: {files: no_such_dir/result.h5}\nfit: {parameters: jamming_fraction}\n",
+      "missing.yaml", {}, schema);
+  core::RunContext ctx(bad, work / "run_bad", true, true);
+  try {
+    run_calibrate_case(ctx);
+    FAIL() << "missing file accepted";
+  } catch (const core::CaseError& e) {
+    EXPECT_NE(std::string(e.what()).find("data.files"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no_such_dir/result.h5"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace granflow::calibration
