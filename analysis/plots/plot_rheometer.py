@@ -60,7 +60,7 @@ def averages(runs, out):
     axes[0].set(xlabel="averaged σ_G [kPa]", ylabel="averaged τ [kPa]", title="stress path")
     axes[1].set(xlabel="averaged γ", ylabel="averaged τ [kPa]", title="τ̄ - γ̄")
     axes[2].set(xlabel="steady averaged shear rate [1/s]", ylabel="steady τ̄ [kPa]",
-                title="steady state")
+                title="steady state", xscale="log", yscale="log")
     for a in axes:
         a.legend(fontsize=7)
         a.grid(alpha=0.3)
