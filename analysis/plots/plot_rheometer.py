@@ -8,6 +8,7 @@ Usage: plot_rheometer.py RUN_DIR [OTHER_RUN_DIR ...]
   rheometer_profiles.png  radial profiles of gamma and v_theta at several times (uniform-shear
                           v_theta dashed)
   rheometer_fields.png    r_c and porosity of the solid points at several times
+  rheometer_history.png   mean pore pressure, mixture volume, fluidized fraction, std of n, T
 """
 import glob
 import json
@@ -128,6 +129,29 @@ def fields(run):
     plt.close(fig)
 
 
+def history(run):
+    _, s = load(run)
+    t = s["time"] * 1e3
+    fig, axes = plt.subplots(1, 4, figsize=(17, 3.8))
+    axes[0].plot(t, s["pore_pressure"] / 1e3)
+    axes[0].set(xlabel="t [ms]", ylabel="mean pore pressure [kPa]",
+                title="pore pressure (paper: constant)")
+    axes[1].plot(t, s["mixture_volume"] / s["mixture_volume"][0] - 1.0)
+    axes[1].set(xlabel="t [ms]", ylabel="ΔV / V0", title="mixture volume of the solid points")
+    axes[2].plot(t, s["fluidized_fraction"], label="r_c = 0 fraction")
+    axes[2].plot(t, s["porosity_std"] / max(np.max(s["porosity_std"]), 1e-12),
+                 label="std n (scaled)")
+    axes[2].set(xlabel="t [ms]", title="fluidization, heterogeneity")
+    axes[2].legend(fontsize=7)
+    axes[3].semilogy(t, np.maximum(s["temperature"], 1e-12))
+    axes[3].set(xlabel="t [ms]", ylabel="mean T [m²/s²]", title="granular temperature")
+    for a in axes:
+        a.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(os.path.join(run, "rheometer_history.png"), dpi=110)
+    plt.close(fig)
+
+
 def main():
     run = sys.argv[1]
     runs = [r for r in sys.argv[1:] if is_rheometer(r)]
@@ -139,6 +163,7 @@ def main():
     averages(runs, run)
     profiles(run)
     fields(run)
+    history(run)
 
 
 if __name__ == "__main__":
