@@ -589,6 +589,10 @@ core::Schema rheometer_schema() {
   r.boolean("conduct_temperature",
             "conduct T through the nodes with the collisional conductivity ρ_p d f4 T^½")
       .default_value("true");
+  r.boolean("closed_domain",
+            "remove the volume-weighted mean of the liquid's volumetric rate (closed rigid "
+            "annulus: its exact integral is zero; point quadrature leaves a drift of p̄)")
+      .default_value("false");
   r.number("steady_fraction", "1", "steady values: means over this last fraction of the run")
       .default_value("0.2")
       .greater_than(0)
@@ -636,6 +640,7 @@ RheometerSpec read_rheometer(const core::Case& c) {
   // T conducted through the nodes with the collisional conductivity ρ_p d f4 T^½ of each point
   // when the collisional term is on (seed section 5).
   r.options.material_conductivity = r.model.collisional && c.boolean("run.conduct_temperature");
+  r.options.closed_domain = c.boolean("run.closed_domain");
   return r;
 }
 

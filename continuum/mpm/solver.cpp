@@ -944,6 +944,18 @@ void Solver::constitutive_update() {
 #pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
     for (long p = 0; p < nl; ++p) rate[p] = acc_[liquid_cell_[p]] / acc_[nn + liquid_cell_[p]];
   }
+  if (options_.closed_domain) {
+    double rate_volume = 0.0, volume = 0.0;
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1) \
+    reduction(+ : rate_volume, volume)
+    for (long p = 0; p < nl; ++p) {
+      rate_volume += liquid_.volume[p] * rate[p];
+      volume += liquid_.volume[p];
+    }
+    const double mean_rate = rate_volume / volume;
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
+    for (long p = 0; p < nl; ++p) rate[p] -= mean_rate;
+  }
   long bad_liquid = -1;
 #pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1) \
     reduction(max                                                                 \

@@ -60,6 +60,10 @@ struct SolverOptions {
   // conductivity; the multi-regime material: ρ_p d f4 T^½) instead of the constant above.
   bool material_conductivity = false;
   bool liquid_volumetric_smoothing = false;  // cell-averaged volumetric rate for p (linear)
+  // Closed rigid container (every boundary impermeable and fixed normally, e.g. the rheometer):
+  // ∫ div(mixture flux) dV = 0 exactly, so the volume-weighted mean of the liquid points'
+  // volumetric rate, which point quadrature leaves non-zero, is removed before dp is formed.
+  bool closed_domain = false;
   long dt_update_interval = 50;              // recompute the critical step every so many steps
   int threads = 0;                           // 0: OpenMP default
 };

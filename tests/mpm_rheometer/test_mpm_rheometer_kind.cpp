@@ -39,10 +39,14 @@ TEST(MpmRheometer, ReducedCaseFluidizesAndConservesMass) {
   EXPECT_GT(s.get("peak.tau"), 0.05 * p0);
   EXPECT_LT(s.get("time.peak"), 0.5 * 0.004);  // early in the run (end 4 ms)
   // Drop: after fluidization the residual τ̄ is collisional + viscous, tens of Pa at γ̇ ≈ 15 1/s
-  // (measured 5 Pa); the bound 0.1 τ̄_peak fails if the material does not fluidize.
+  // (measured 3.1 Pa); the bound 0.1 τ̄_peak fails if the material does not fluidize.
   EXPECT_LT(std::fabs(s.get("steady.tau")), 0.1 * s.get("peak.tau"));
-  EXPECT_LT(s.get("steady.sigma_G"), 0.1 * p0);       // σ̄_G dropped with it (measured 6 Pa)
-  EXPECT_GT(s.get("fluidized_fraction.final"), 0.3);  // r_c = 0 over a part (measured 0.74)
+  EXPECT_LT(s.get("steady.sigma_G"), 0.1 * p0);       // σ̄_G dropped with it (measured a few Pa)
+  EXPECT_GT(s.get("fluidized_fraction.final"), 0.3);  // r_c = 0 over a part (measured 1.0)
+  // Closed rigid annulus (run.closed_domain): the mean pore pressure stays at u_w0 to round-off
+  // of the rate sums (measured 3e-6 of u_w0 over 6 ms; bound 1e-4, against a drift of ~15 u_w0
+  // without the constraint).
+  EXPECT_LT(s.get("pore_pressure.mean_rel_change"), 1e-4);
   // Points carry fixed masses: exactly zero change.
   EXPECT_EQ(s.get("mass.solid_rel_change"), 0.0);
   EXPECT_EQ(s.get("mass.liquid_rel_change"), 0.0);
