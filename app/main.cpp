@@ -10,6 +10,7 @@
 #include <iostream>
 #include <optional>
 
+#include "analysis/report.hpp"
 #include "app/registry.hpp"
 #include "core/case.hpp"
 #include "core/run.hpp"
@@ -69,6 +70,7 @@ int main(int argc, char** argv) {
       "  granflow run cases/rev/simple_shear_dry.yaml --set loading.shear_rate=50 --out runs/fast\n"
       "  granflow run cases/rev/simple_shear_sweep.yaml --force\n"
       "  granflow check cases/rev/simple_shear_wet.yaml\n"
+      "  granflow run cases/pair/dry_pair.yaml && granflow report runs/dry_pair\n"
       "  granflow schema --markdown > docs/cases.md\n\n"
       "Case kinds (kind / test):\n" +
       kinds +
@@ -91,11 +93,25 @@ int main(int argc, char** argv) {
   check->add_option("case", case_file, "case file (YAML)")->required();
   check->add_option("--set", sets, "override a case key: key.path=value (repeatable)")->take_all();
 
+  std::string report_dir;
+  auto* report =
+      cli.add_subcommand("report", "write RUN_DIR/report.md: summary, tables and plots of a run");
+  report->add_option("run_dir", report_dir, "a run directory (with summary.json)")->required();
+
   auto* schema = cli.add_subcommand("schema", "print the reference of every case key");
   schema->add_flag("--markdown", markdown, "Markdown (the text of docs/cases.md)");
 
   CLI11_PARSE(cli, argc, argv);
 
+  if (report->parsed()) {
+    try {
+      std::cout << analysis::write_report(report_dir).string() << "\n";
+    } catch (const std::exception& e) {
+      std::cerr << "error: " << report_dir << ": " << e.what() << "\n";
+      return core::exit_bad_input;
+    }
+    return core::exit_ok;
+  }
   if (schema->parsed()) {
     std::cout << schema_reference(registry);
     return core::exit_ok;

@@ -73,8 +73,9 @@ struct Validator {
   std::vector<std::pair<std::string, std::string>>& locations;
 
   std::string where(const std::string& path, const YAML::Node& node) const {
-    for (const auto& [p, loc] : override_locations)
-      if (p == path || path.rfind(p + ".", 0) == 0) return loc;
+    // the last entry wins: --set is recorded after the included files' keys
+    for (auto it = override_locations.rbegin(); it != override_locations.rend(); ++it)
+      if (it->first == path || path.rfind(it->first + ".", 0) == 0) return it->second;
     if (node.IsDefined() && node.Mark().line >= 0)
       return fmt::format("{}:{}", origin, node.Mark().line + 1);
     return origin;
@@ -184,6 +185,91 @@ struct Validator {
 };
 
 // ------------------------------------------------------------------------------------------
+// `include: FILE` (or a list of files), relative to the including file: their sections are merged
+// into the case before validation, so a calibrated parameter file (kind: calibrate writes one)
+// can be used by rev and mpm cases directly. A key given in both files is an error naming both
+// places (no silent precedence); --set still overrides everything. Included files may not
+// include further files.
+namespace {
+
+void merge_node(YAML::Node target, const YAML::Node& source, const std::string& path,
+                const std::string& file, const std::string& origin,
+                std::vector<std::pair<std::string, std::string>>& locations) {
+  for (const auto& item : source) {
+    const auto key = item.first.as<std::string>();
+    const std::string child_path = join(path, key);
+    const std::string where = fmt::format("{}:{}", file, item.first.Mark().line + 1);
+    YAML::Node existing = target[key];
+    if (existing.IsDefined() && existing.IsMap() && item.second.IsMap()) {
+      merge_node(existing, item.second, child_path, file, origin, locations);
+      continue;
+    }
+    if (existing.IsDefined())
+      throw CaseError(
+          fmt::format("{}: {}: given both here and in {}:{}; expected it in one file only", where,
+                      child_path, origin, existing.Mark().line + 1));
+    target[key] = item.second;
+    std::function<void(const YAML::Node&, const std::string&)> record = [&](const YAML::Node& n,
+                                                                            const std::string& p) {
+      if (n.IsMap()) {
+        for (const auto& sub : n) record(sub.second, join(p, sub.first.as<std::string>()));
+      } else {
+        locations.emplace_back(p, fmt::format("{}:{}", file, n.Mark().line + 1));
+      }
+    };
+    record(item.second, child_path);
+  }
+}
+
+}  // namespace
+
+void Case::merge_includes(YAML::Node& raw, const std::string& origin,
+                          std::vector<std::pair<std::string, std::string>>& locations) {
+  const YAML::Node include = raw["include"];
+  if (!include.IsDefined()) return;
+  const std::string at = fmt::format("{}:{}", origin, include.Mark().line + 1);
+  std::vector<std::string> files;
+  if (include.IsScalar()) {
+    files.push_back(include.as<std::string>());
+  } else if (include.IsSequence()) {
+    for (const auto& f : include) {
+      if (!f.IsScalar())
+        throw CaseError(at + ": include: expected a file name or a list of file names");
+      files.push_back(f.as<std::string>());
+    }
+  } else {
+    throw CaseError(at + ": include: expected a file name or a list of file names");
+  }
+  raw.remove("include");
+  const std::filesystem::path base = std::filesystem::path(origin).parent_path();
+  for (const auto& name : files) {
+    const std::filesystem::path file =
+        std::filesystem::path(name).is_absolute() ? std::filesystem::path(name) : base / name;
+    YAML::Node included;
+    try {
+      included = YAML::LoadFile(file.string());
+    } catch (const YAML::BadFile&) {
+      throw CaseError(fmt::format("{}: include: cannot open '{}'", at, file.string()));
+    } catch (const YAML::ParserException& e) {
+      throw CaseError(
+          fmt::format("{}:{}: YAML syntax error: {}", file.string(), e.mark.line + 1, e.msg));
+    }
+    if (!included.IsMap())
+      throw CaseError(
+          fmt::format("{}:1: (top level): expected a map of case sections", file.string()));
+    if (included["include"].IsDefined())
+      throw CaseError(fmt::format("{}:{}: include: an included file may not include further files",
+                                  file.string(), included["include"].Mark().line + 1));
+    for (const char* header : {"kind", "test", "name"})
+      if (included[header].IsDefined())
+        throw CaseError(
+            fmt::format("{}:{}: {}: not allowed in an included file; expected only "
+                        "parameter sections",
+                        file.string(), included[header].Mark().line + 1, header));
+    merge_node(raw, included, "", file.string(), origin, locations);
+  }
+}
+
 Case Case::load(const std::filesystem::path& file, const std::vector<std::string>& overrides,
                 const Schema& schema) {
   std::ifstream in(file);
@@ -209,8 +295,10 @@ Case Case::parse(const std::string& yaml_text, const std::string& origin,
   if (!raw.IsMap())
     throw CaseError(fmt::format("{}:1: (top level): expected a map of keys", origin));
 
-  // --set key.path=value: same validation as the file.
+  // --set key.path=value: same validation as the file. Keys merged from `include:` files are
+  // located in their own file through the same list (exact leaf paths).
   std::vector<std::pair<std::string, std::string>> override_locations;
+  merge_includes(raw, origin, override_locations);
   for (const auto& item : overrides) {
     const auto eq = item.find('=');
     if (eq == std::string::npos || eq == 0)

@@ -1,6 +1,8 @@
 // A validated case: a YAML file (plus --set overrides) checked against the schema of its kind.
 // Every error names file:line, the key path and what was expected, and is thrown as CaseError
 // (the CLI turns it into one line on stderr and exit code 2, before anything runs).
+// A case may start with `include: FILE` (or a list): parameter sections from another file, e.g.
+// the calibrated.yaml a `kind: calibrate` run writes, merged before validation.
 #pragma once
 
 #include <yaml-cpp/yaml.h>
@@ -62,6 +64,8 @@ class Case {
 
  private:
   Case() = default;
+  static void merge_includes(YAML::Node& raw, const std::string& origin,
+                             std::vector<std::pair<std::string, std::string>>& locations);
 
   YAML::Node root_;     // validated tree with defaults filled in
   std::string origin_;  // file name for messages

@@ -1,6 +1,10 @@
 // Case validation: every class of bad input gives one error naming file:line, the key path and
 // what was expected (issue 2, item 5), and overrides/sweeps follow the same rules.
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 
 #include "core/case.hpp"
 #include "core/kind_registry.hpp"
@@ -199,4 +203,61 @@ TEST(Case, ResolvedYamlRoundTripsThroughTheValidator) {
   const Case again = Case::parse(c.resolved_yaml(), "resolved.yaml", {}, schema);
   EXPECT_DOUBLE_EQ(again.number("loading.shear_rate"), 7);
   EXPECT_DOUBLE_EQ(again.number("material.viscosity"), 1e-3);
+}
+
+namespace {
+std::filesystem::path write_files(const std::string& name,
+                                  const std::vector<std::pair<std::string, std::string>>& files) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("granflow_include_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  for (const auto& [file, text] : files) std::ofstream(dir / file) << text;
+  return dir;
+}
+}  // namespace
+
+TEST(Case, IncludeMergesParameterSectionsAndLocatesTheirErrors) {
+  const Schema schema = test_schema();
+  const std::string main_text =
+      replace(good, "  restitution: 0.7\n", "") + "include: calibrated.yaml\n";
+  auto dir = write_files(
+      "ok", {{"case.yaml", main_text}, {"calibrated.yaml", "material:\n  restitution: 0.85\n"}});
+  const Case c = Case::load(dir / "case.yaml", {}, schema);
+  EXPECT_DOUBLE_EQ(c.number("material.restitution"), 0.85);
+  EXPECT_DOUBLE_EQ(c.number("material.diameter"), 1e-3);  // from the including file
+  EXPECT_EQ(c.location("material.restitution"), (dir / "calibrated.yaml").string() + ":2");
+  // --set still overrides an included key
+  EXPECT_DOUBLE_EQ(Case::load(dir / "case.yaml", {"material.restitution=0.5"}, schema)
+                       .number("material.restitution"),
+                   0.5);
+  // an impossible value in the included file is reported at its own line
+  dir = write_files(
+      "bad", {{"case.yaml", main_text}, {"calibrated.yaml", "material:\n  restitution: 1.5\n"}});
+  try {
+    Case::load(dir / "case.yaml", {}, schema);
+    FAIL();
+  } catch (const CaseError& e) {
+    EXPECT_NE(std::string(e.what()).find("calibrated.yaml:2: material.restitution: value 1.5"),
+              std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Case, IncludeRefusesAKeyGivenTwiceAndMissingFiles) {
+  const Schema schema = test_schema();
+  auto dir = write_files("twice", {{"case.yaml", std::string(good) + "include: calibrated.yaml\n"},
+                                   {"calibrated.yaml", "material:\n  restitution: 0.85\n"}});
+  try {
+    Case::load(dir / "case.yaml", {}, schema);
+    FAIL();
+  } catch (const CaseError& e) {
+    EXPECT_NE(std::string(e.what()).find("material.restitution: given both here and in"),
+              std::string::npos)
+        << e.what();
+  }
+  dir = write_files("missing", {{"case.yaml", std::string(good) + "include: nowhere.yaml\n"}});
+  EXPECT_THROW(Case::load(dir / "case.yaml", {}, schema), CaseError);
+  std::filesystem::remove_all(dir);
 }
