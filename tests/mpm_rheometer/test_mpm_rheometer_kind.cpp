@@ -44,7 +44,7 @@ TEST(MpmRheometer, ReducedCaseFluidizesAndConservesMass) {
   EXPECT_LT(s.get("steady.sigma_G"), 0.1 * p0);       // σ̄_G dropped with it (measured a few Pa)
   EXPECT_GT(s.get("fluidized_fraction.final"), 0.3);  // r_c = 0 over a part (measured 1.0)
   // Closed rigid annulus (run.closed_domain): the mean pore pressure stays at u_w0 to round-off
-  // of the rate sums (measured 3e-6 of u_w0 over 6 ms; bound 1e-4, against a drift of ~15 u_w0
+  // of the rate sums (measured 3e-6 of u_w0 over 4 ms; bound 1e-4, against a drift of ~15 u_w0
   // without the constraint).
   EXPECT_LT(s.get("pore_pressure.mean_rel_change"), 1e-4);
   // Points carry fixed masses: exactly zero change.
