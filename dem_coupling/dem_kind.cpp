@@ -20,8 +20,9 @@ namespace granflow::dem {
 core::Schema shear_schema() {
   core::Schema s = core::kind_header(
       "dem", "",
-      "Periodic (Lees-Edwards) simple shear of dry spheres in LIGGGHTS 3.8.0 via granflow-dem, at "
-      "constant volume or constant normal stress; steady μ, φ, T, I, Z with error bars.");
+      "Periodic (Lees-Edwards) simple shear of dry or immersed (liquid.enabled: drag, "
+      "lubrication) spheres in LIGGGHTS 3.8.0 via granflow-dem, at constant volume or constant "
+      "normal stress; steady μ, φ, T, I, Z (wet: J, K, St, stress split) with error bars.");
   // The continuum's material section (one description for both), with DEM-only keys added and
   // the friction made sweepable (frictional vs frictionless sweeps).
   core::Field material = continuum::material_section();
@@ -45,6 +46,37 @@ core::Schema shear_schema() {
       .at_least(0)
       .less_than(1);
   s.add(std::move(material));
+  // Immersed runs (issue 5): the continuum's liquid section (enabled, viscosity, permeability,
+  // sphericity, trulsson_alpha are read; the other keys are the continuum's) plus DEM-only keys.
+  // The viscosity is made sweepable here (St = ρ_p d² γ̇/η0 at fixed γ̇ and σ_yy): the section is
+  // rebuilt from the continuum's fields, a copy of liquid.viscosity marked sweepable.
+  const core::Field continuum_liquid = continuum::liquid_section();
+  core::Field liquid(continuum_liquid.key(), continuum_liquid.type(), continuum_liquid.unit(),
+                     continuum_liquid.doc());
+  for (core::Field child : continuum_liquid.children()) {
+    if (child.key() == "viscosity") child.sweepable();
+    liquid.add(std::move(child));
+  }
+  s.add(std::move(liquid));
+  auto& wet = s.section(
+      "dem_liquid", "DEM fluid forces of fix fluid/le (with liquid.enabled; docs/dem_fluid.md)");
+  wet.boolean("lubrication", "pair lubrication (normal squeeze, Reynolds)").default_value("true");
+  wet.number("maximum_gap", "", "h_max / d: lubrication acts for gaps h < h_max (< d_small/(2d))")
+      .default_value("0.05")
+      .greater_than(0);
+  wet.number("minimum_gap", "",
+             "h_min / d: resistance held at h_min below it (~0.01 at the viscous end, since "
+             "the lubrication time step ∝ h_min)")
+      .default_value("0.001")
+      .greater_than(0);
+  wet.boolean("tangential_lubrication", "the log(1/h) shear mode of lubrication")
+      .default_value("true");
+  wet.boolean("rotational_drag", "Stokes rotlet torque -π η d³ (ω - Ω)").default_value("true");
+  wet.number("viscous_time_step_safety", "",
+             "Δt <= safety × shortest viscous relaxation time (drag, rotation, lubrication)")
+      .default_value("0.2")
+      .greater_than(0)
+      .at_most(1);
   auto& dem = s.section("dem", "DEM run settings");
   dem.integer("particles", "number of spheres").default_value("1000").greater_than(0);
   dem.integer("seed", "random seed of the initial packing and sizes")
@@ -138,6 +170,18 @@ ShearDeckParams read_shear_params(const core::Case& c) {
   p.total_strain = c.number("strain.total");
   p.sample_strain = c.number("strain.sample");
   p.profile_bins = static_cast<int>(c.integer("output.profile_bins"));
+  WetShear& w = p.wet;
+  w.enabled = c.boolean("liquid.enabled");
+  w.viscosity = c.number("liquid.viscosity");
+  w.permeability = c.string("liquid.permeability");
+  w.sphericity = c.number("liquid.sphericity");
+  w.trulsson_alpha = c.number("liquid.trulsson_alpha");
+  w.lubrication = c.boolean("dem_liquid.lubrication");
+  w.maximum_gap = c.number("dem_liquid.maximum_gap");
+  w.minimum_gap = c.number("dem_liquid.minimum_gap");
+  w.tangential_lubrication = c.boolean("dem_liquid.tangential_lubrication");
+  w.rotational_drag = c.boolean("dem_liquid.rotational_drag");
+  w.viscous_safety = c.number("dem_liquid.viscous_time_step_safety");
   return p;
 }
 
@@ -166,6 +210,15 @@ struct Steady {
 Steady steady_of(const std::vector<double>& series, std::size_t start) {
   const auto e = analysis::batch_means(std::span(series).subspan(start));
   return {e.mean, e.standard_error};
+}
+
+// summary.json holds numbers: the limit that sets Δt as an index (docs/dem_dataset.md).
+double dt_limit_index(const std::string& name) {
+  constexpr const char* names[] = {"contact", "drag", "rotational drag", "normal lubrication",
+                                   "tangential lubrication"};
+  for (std::size_t i = 0; i < std::size(names); ++i)
+    if (name == names[i]) return double(i);
+  return -1.0;
 }
 
 struct PointResult {
@@ -203,6 +256,15 @@ constexpr const char* series_units[][3] = {
     {"profile_deviation", "1", "RMS deviation of the mean v_x profile from the line / (γ̇ L_y)"},
 };
 
+// Immersed runs only: the shear-stress split (docs/dem_fluid.md; sums to tau).
+constexpr const char* wet_series_units[][3] = {
+    {"tau_contact", "Pa", "contact shear stress -P^vir_xy - τ_lub - τ_drag"},
+    {"tau_lub", "Pa", "lubrication shear stress -(P_lub,n,xy + P_lub,t,xy)"},
+    {"tau_drag", "Pa", "drag shear stress -P_drag,xy"},
+    {"tau_kin", "Pa", "kinetic shear stress -P^kin_xy"},
+    {"lubricated_pairs", "1", "number of pairs with h < h_max"},
+};
+
 PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& dir,
                           const std::string& group, const ShearDeckParams& p,
                           const ShearDeck& deck) {
@@ -212,6 +274,9 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
   if (t.rows() > 0) {
     for (const auto& [name, unit, doc] : series_units)
       out.write(group + "/series/" + name, t.at(name), unit, doc);
+    if (p.wet.enabled)
+      for (const auto& [name, unit, doc] : wet_series_units)
+        out.write(group + "/series/" + name, t.at(name), unit, doc);
     const SeriesTable prof = read_series_table(dir / "profile.tsv", false);
     if (prof.rows() > 0 && prof.names.size() > 2) {
       const std::size_t bins = prof.names.size() - 2;
@@ -225,6 +290,13 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
     }
   }
   out.attribute(group, "dt", deck.dt);
+  out.attribute(group, "dt_limit", deck.dt_limit);
+  if (p.wet.enabled) {
+    out.attribute(group, "viscosity", p.wet.viscosity);
+    out.attribute(group, "minimum_gap", p.wet.minimum_gap * p.material.diameter);
+    out.attribute(group, "maximum_gap", p.wet.maximum_gap * p.material.diameter);
+    out.attribute(group, "permeability", p.wet.permeability);
+  }
   out.attribute(group, "rayleigh_time", deck.times.rayleigh);
   out.attribute(group, "hertz_time", deck.times.hertz);
   out.attribute(group, "shear_rate", p.shear_rate);
@@ -290,6 +362,25 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
   v["tau_int_mu"] =
       analysis::integrated_autocorrelation_time(std::span<const double>(residual).subspan(start));
   if (p.constant_pressure) v["p_rel_dev"] = s_sigma.mean / p.normal_stress - 1.0;
+  if (p.wet.enabled) {
+    // Viscous number J = η0 γ̇ / σ_yy (Boyer et al. 2011), Stokes number St = ρ_p d² γ̇ / η0 = I²/J,
+    // K = J + α I² (Trulsson et al. 2012). Errors from that of σ_yy (J ∝ 1/σ, I² ∝ 1/σ).
+    const double eta = p.wet.viscosity;
+    const double viscous = eta * p.shear_rate / s_sigma.mean;
+    const double rel = s_sigma.error / s_sigma.mean;
+    const double alpha = p.wet.trulsson_alpha;
+    v["eta"] = eta;
+    v["St"] = p.material.particle_density * d * d * p.shear_rate / eta;
+    v["J"] = viscous;
+    v["J_err"] = viscous * rel;
+    v["K"] = viscous + alpha * inertial * inertial;
+    v["K_err"] = v["K"] * rel;
+    for (const char* part : {"tau_contact", "tau_lub", "tau_drag", "tau_kin"}) {
+      const Steady s_part = steady_of(t.at(part), start);
+      v[part] = s_part.mean;
+      v[std::string(part) + "_err"] = s_part.error;
+    }
+  }
   for (const auto& [name, value] : v) out.attribute(group + "/steady", name, value);
   return r;
 }
@@ -315,10 +406,21 @@ int run_shear(core::RunContext& ctx) {
     std::string label = sweep ? fmt::format("point {}", n) : std::string("DEM shear");
     for (const auto& [key, value] : c.condition()) label += fmt::format(" {}={:g}", key, value);
     ctx.log->info(
-        "{}: {} particles, γ̇ = {:g} 1/s, Δt = {:.4g} s = {:g} × min(t_Rayleigh {:.4g} s, "
-        "t_Hertz {:.4g} s at {:.3g} m/s), {} shear steps ({} per sample)",
-        label, p.particles, p.shear_rate, deck.dt, p.dt_safety, deck.times.rayleigh,
+        "{}: {} particles, γ̇ = {:g} 1/s, Δt = {:.4g} s set by the {} limit; contact: {:g} × "
+        "min(t_Rayleigh {:.4g} s, t_Hertz {:.4g} s at {:.3g} m/s); {} shear steps ({} per sample)",
+        label, p.particles, p.shear_rate, deck.dt, deck.dt_limit, p.dt_safety, deck.times.rayleigh,
         deck.times.hertz, deck.times.reference_speed, deck.total_steps, deck.sample_every);
+    if (p.wet.enabled)
+      ctx.log->info(
+          "{}: immersed, η0 = {:g} Pa s, St = ρ_p d² γ̇/η0 = {:.4g}; viscous time scales at ν = "
+          "{:.3g}: drag {:.4g} s, rotation {:.4g} s, normal lubrication {:.4g} s, tangential "
+          "{:.4g} s (Δt ≤ {:g} × these)",
+          label, p.wet.viscosity,
+          p.material.particle_density * deck.mean_diameter * deck.mean_diameter * p.shear_rate /
+              p.wet.viscosity,
+          deck.fluid_solid_fraction, deck.fluid_times.drag, deck.fluid_times.rotational_drag,
+          deck.fluid_times.normal_lubrication, deck.fluid_times.tangential_lubrication,
+          p.wet.viscous_safety);
     if (p.constant_pressure)
       ctx.log->info(
           "{}: servo to σ_yy = {:g} Pa, gain {:g}, every {} steps (at most {:g} per update)", label,
@@ -357,6 +459,7 @@ int run_shear(core::RunContext& ctx) {
     for (const auto& [name, value] : r.values) ctx.summary.set("steady." + name + suffix, value);
     ctx.summary.set("dem.particles" + suffix, r.particles);
     ctx.summary.set("dem.dt" + suffix, r.dt);
+    ctx.summary.set("dem.dt_limit" + suffix, dt_limit_index(deck.dt_limit));
     ctx.summary.set("cost.point_wall_s" + suffix, wall);
     ctx.summary.set("cost.steps" + suffix, r.steps);
     if (sweep) ctx.summary.set("cost.particle_steps_per_s" + suffix, r.particle_steps_per_s);
@@ -404,16 +507,37 @@ int run_shear(core::RunContext& ctx) {
       {"start_strain", "start_strain", "1", "strain where the steady part starts (MSER-5)"},
       {"profile_deviation", "profile_deviation", "1", "RMS deviation from the linear profile"},
   };
+  const Column wet_columns[] = {
+      {"eta", "viscosity", "Pa s", "liquid viscosity η0"},
+      {"St", "stokes_number", "1", "St = ρ_p d² γ̇ / η0"},
+      {"J", "viscous_number", "1", "J = η0 γ̇ / σ_yy"},
+      {"J_err", "viscous_number_err", "1", "standard error of J"},
+      {"K", "mixed_number", "1", "K = J + α I² (α = liquid.trulsson_alpha)"},
+      {"K_err", "mixed_number_err", "1", "standard error of K"},
+      {"tau_contact", "shear_stress_contact", "Pa", "contact part of τ"},
+      {"tau_contact_err", "shear_stress_contact_err", "Pa", "standard error"},
+      {"tau_lub", "shear_stress_lubrication", "Pa", "lubrication part of τ"},
+      {"tau_lub_err", "shear_stress_lubrication_err", "Pa", "standard error"},
+      {"tau_drag", "shear_stress_drag", "Pa", "drag part of τ"},
+      {"tau_drag_err", "shear_stress_drag_err", "Pa", "standard error"},
+      {"tau_kin", "shear_stress_kinetic", "Pa", "kinetic part of τ"},
+      {"tau_kin_err", "shear_stress_kinetic_err", "Pa", "standard error"},
+  };
+  bool any_wet = false;
+  for (const core::Case& c : conditions) any_wet = any_wet || c.boolean("liquid.enabled");
   auto& out = ctx.result;
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  for (const Column& col : columns) {
+  auto write_column = [&](const Column& col) {
     std::vector<double> v;
     for (const auto& r : results) {
       const auto it = r.values.find(col.key);
       v.push_back(it == r.values.end() ? nan : it->second);
     }
     out.write(std::string("/steady/") + col.name, v, col.unit, col.doc);
-  }
+  };
+  for (const Column& col : columns) write_column(col);
+  if (any_wet)
+    for (const Column& col : wet_columns) write_column(col);
   std::vector<double> rate, friction_p, target, dt, wall;
   for (std::size_t n = 0; n < results.size(); ++n) {
     const ShearDeckParams p = read_shear_params(conditions[n]);
@@ -453,7 +577,8 @@ int run_shear(core::RunContext& ctx) {
 }  // namespace
 
 void register_dem_kinds(core::KindRegistry& registry) {
-  registry.add({"dem", "", "Lees-Edwards periodic simple shear of dry spheres (LIGGGHTS)",
+  registry.add({"dem", "",
+                "Lees-Edwards periodic simple shear of dry or immersed spheres (LIGGGHTS)",
                 shear_schema(), check_shear, run_shear, "cases/dem/dry_point.yaml"});
 }
 

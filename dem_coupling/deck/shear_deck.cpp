@@ -8,6 +8,7 @@
 #include <numbers>
 #include <numeric>
 #include <random>
+#include <stdexcept>
 
 namespace granflow::dem {
 
@@ -62,6 +63,20 @@ std::vector<std::pair<std::string, std::string>> check_shear_params(const ShearD
                         fmt::format("in (0, {}) (random close packing)", max_solid_fraction));
   if (p.particles < 8) issues.emplace_back("dem.particles", ">= 8");
   if (!(p.sample_strain < p.total_strain)) issues.emplace_back("strain.sample", "< strain.total");
+  if (p.wet.enabled) {
+    const SizeRange s = size_range(m);
+    // fix fluid/le refuses h_max >= smallest radius (a lubricated pair must not skip a sphere).
+    if (!(p.wet.maximum_gap * m.diameter < 0.5 * s.small))
+      issues.emplace_back("dem_liquid.maximum_gap",
+                          fmt::format("< d_small / (2 d) = {:.4g}", 0.5 * s.small / m.diameter));
+    if (!(p.wet.minimum_gap < p.wet.maximum_gap))
+      issues.emplace_back("dem_liquid.minimum_gap", "< dem_liquid.maximum_gap");
+    try {
+      (void)model::parse_permeability(p.wet.permeability);
+    } catch (const std::exception& e) {
+      issues.emplace_back("liquid.permeability", e.what());
+    }
+  }
   if (p.constant_pressure && !(p.servo_strain >= p.sample_strain))
     issues.emplace_back("control.servo_strain", ">= strain.sample");
   if (issues.empty()) {
@@ -135,6 +150,46 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
   out.times = contact_times(0.5 * range.small, m.particle_density, m.youngs_modulus,
                             m.poisson_ratio, reference_speed);
   out.dt = p.dt_safety * out.times.shortest();
+  std::string fluid_fix;
+  if (p.wet.enabled) {
+    // Immersed: dt = min(dt_safety t_contact, viscous_safety min(τ_drag, τ_rot, τ_n, τ_t))
+    // (fluid_time_step.hpp). The drag time scale shortens with ν; the fix re-checks dt against
+    // the current ν at every setup, so take the target φ, or max(φ0, 0.6) when a servo sets it.
+    out.fluid_solid_fraction =
+        p.constant_pressure ? std::max(p.solid_fraction, 0.6) : p.solid_fraction;
+    FluidTimeStepInput in;
+    in.fluid.liquid.viscosity = p.wet.viscosity;
+    in.fluid.liquid.permeability = model::parse_permeability(p.wet.permeability);
+    in.fluid.liquid.sphericity = p.wet.sphericity;
+    in.fluid.rotational_drag = p.wet.rotational_drag;
+    in.fluid.lubrication = p.wet.lubrication;
+    in.fluid.tangential_lubrication = p.wet.tangential_lubrication;
+    in.fluid.maximum_gap = p.wet.maximum_gap * m.diameter;
+    in.fluid.minimum_gap = p.wet.minimum_gap * m.diameter;
+    in.contact_time = out.times.shortest();
+    in.particle_density = m.particle_density;
+    in.smallest_radius = 0.5 * range.small;
+    in.largest_radius = 0.5 * range.large;
+    in.solid_fraction = out.fluid_solid_fraction;
+    out.fluid_times = fluid_time_scales(in);
+    const FluidTimeStep step =
+        stable_fluid_time_step(out.fluid_times, p.dt_safety, p.wet.viscous_safety);
+    out.dt = step.dt;
+    out.dt_limit = step.limited_by;
+    const auto yes_no = [](bool b) { return b ? "yes" : "no"; };
+    fluid_fix = fmt::format(
+        "\n# ---- immersed: drag, rotational drag, lubrication about the Lees-Edwards flow "
+        "(docs/dem_fluid.md)\n# dt set by the {} limit (time scale {:.6g} s)\n"
+        "variable gf_viscosity equal {:.17g}\n"
+        "fix gf_fluid all fluid/le viscosity {:.17g} permeability {} sphericity {:.17g} drag yes "
+        "rotation {}{}\n",
+        step.limited_by, step.limit_time, p.wet.viscosity, p.wet.viscosity, p.wet.permeability,
+        p.wet.sphericity, yes_no(p.wet.rotational_drag),
+        p.wet.lubrication
+            ? fmt::format(" lubrication {:.17g} {:.17g} tangential {}", in.fluid.maximum_gap,
+                          in.fluid.minimum_gap, yes_no(p.wet.tangential_lubrication))
+            : std::string());
+  }
   out.sample_every = steps_for(p.sample_strain, p.shear_rate, out.dt);
   out.servo_every =
       p.constant_pressure
@@ -222,6 +277,7 @@ thermo          0                            # thermo (and the virial) at the en
       fmt::arg("phi", p.solid_fraction), fmt::arg("l0", out.initial_box_length),
       fmt::arg("l1", out.box_length), fmt::arg("ncomp", p.compression_steps),
       fmt::arg("vtop", top_speed));
+  out.deck += fluid_fix;
   return out;
 }
 

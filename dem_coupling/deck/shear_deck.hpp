@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "dem_coupling/deck/contact_time.hpp"
+#include "dem_coupling/fixes/fluid_time_step.hpp"
 
 namespace granflow::dem {
 
@@ -27,6 +28,22 @@ struct DemMaterial {
   double size_ratio = 1.22;     // bidisperse: d_large / d_small
   double large_fraction = 0.5;  // bidisperse: number fraction of large particles
   double polydispersity = 0.1;  // uniform: d in d (1 -+ polydispersity)
+};
+
+// Immersed shear (issue 5): `fix gf_fluid all fluid/le ...` after the shear fix
+// (docs/dem_fluid.md). Gaps are in units of the number-mean diameter d (material.diameter).
+struct WetShear {
+  bool enabled = false;
+  double viscosity = 1e-3;                 // η0, Pa s
+  std::string permeability = "seed_eq26";  // drag correlation, by the continuum's name
+  double sphericity = 1.0;                 // A of the permeability
+  bool lubrication = true;
+  bool tangential_lubrication = true;
+  bool rotational_drag = true;
+  double maximum_gap = 0.05;    // h_max / d (must be < d_small / (2 d))
+  double minimum_gap = 0.001;   // h_min / d
+  double viscous_safety = 0.2;  // Δt <= viscous_safety × shortest viscous relaxation time
+  double trulsson_alpha = 0.6;  // α of K = J + α I² (reporting)
 };
 
 struct ShearDeckParams {
@@ -46,6 +63,7 @@ struct ShearDeckParams {
   double impact_speed_factor = 3.0;  // reference impact speed = factor * shear_rate * d_max
   int profile_bins = 10;
   long compression_steps = 10000;
+  WetShear wet;
 };
 
 struct ShearDeck {
@@ -55,6 +73,9 @@ struct ShearDeck {
   double small_diameter = 0, large_diameter = 0, mean_diameter = 0;
   ContactTimes times;
   double dt = 0;
+  std::string dt_limit = "contact";  // the limit that sets dt (fluid_time_step.hpp names)
+  FluidTimeScales fluid_times;       // wet: the time scales at the solid fraction below
+  double fluid_solid_fraction = 0;   // wet: ν used for the drag time scale
   long sample_every = 0, servo_every = 0, total_steps = 0;
   double initial_box_length = 0, box_length = 0;  // lattice box, compressed box (m)
   double solid_volume = 0;                        // m^3

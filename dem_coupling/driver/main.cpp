@@ -94,17 +94,49 @@ double deck_variable(void* handle, const char* name, int rank) {
   return v;
 }
 
-void write_series_header(std::FILE* f) {
+// Immersed runs (deck defines gf_viscosity and fix gf_fluid, docs/dem_fluid.md): the shear
+// stress split into contact, lubrication, drag and kinetic parts, appended to each series row.
+struct FluidStress {
+  double contact = 0, lubrication = 0, drag = 0, kinetic = 0, lubricated_pairs = 0;
+};
+
+// Entry k (1-based, as f_gf_fluid[k]) of the fix's global vector; collective (the fix reduces
+// its sums over ranks), so every rank calls it. The value is malloc'ed by library.cpp.
+double fluid_entry(void* handle, int k, int rank) {
+  void* p = lammps_extract_fix(handle, "gf_fluid", 0, 1, k - 1, 0);
+  if (p == nullptr) usage_error(rank, "deck defines gf_viscosity but no fix gf_fluid (fluid/le)");
+  double* value = static_cast<double*>(p);
+  const double v = *value;
+  std::free(value);
+  return v;
+}
+
+// τ_lub = -(P_lub,n,xy + P_lub,t,xy) (entries 4, 10), τ_drag = -P_drag,xy (16), τ_kin = -P^kin_xy,
+// τ_contact = -P^vir_xy - τ_lub - τ_drag (the fix's virial is part of compute gf_virial), so
+// the four parts sum to τ = -(P^vir_xy + P^kin_xy) exactly.
+FluidStress fluid_stress(void* handle, const ShearSample& s, int rank) {
+  FluidStress f;
+  f.lubrication = -(fluid_entry(handle, 4, rank) + fluid_entry(handle, 10, rank));
+  f.drag = -fluid_entry(handle, 16, rank);
+  f.kinetic = -s.kinetic_stress[3];
+  f.contact = -s.virial_stress[3] - f.lubrication - f.drag;
+  f.lubricated_pairs = fluid_entry(handle, 27, rank);
+  return f;
+}
+
+void write_series_header(std::FILE* f, bool wet) {
   std::fprintf(f,
                "step\ttime\tstrain\tlx\tly\tlz\txy\tvolume\t"
                "Pvir_xx\tPvir_yy\tPvir_zz\tPvir_xy\tPvir_xz\tPvir_yz\t"
                "Pkin_xx\tPkin_yy\tPkin_zz\tPkin_xy\tPkin_xz\tPkin_yz\t"
                "P_xx\tP_yy\tP_zz\tP_xy\tP_xz\tP_yz\t"
                "sigma_yy\ttau\tp\tmu\tT\tphi\te\tI\tZ\td_mean\t"
-               "momentum_x\tmomentum_y\tmomentum_z\tparticles\tprofile_deviation\n");
+               "momentum_x\tmomentum_y\tmomentum_z\tparticles\tprofile_deviation");
+  if (wet) std::fprintf(f, "\ttau_contact\ttau_lub\ttau_drag\ttau_kin\tlubricated_pairs");
+  std::fputc('\n', f);
 }
 
-void write_series_row(std::FILE* f, const ShearSample& s) {
+void write_series_row(std::FILE* f, const ShearSample& s, const FluidStress* fluid) {
   std::fprintf(f, "%ld\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g", s.step, s.time, s.strain,
                s.box.lx, s.box.ly, s.box.lz, s.box.xy, s.box.volume());
   for (double v : s.virial_stress) std::fprintf(f, "\t%.10g", v);
@@ -113,8 +145,12 @@ void write_series_row(std::FILE* f, const ShearSample& s) {
   std::fprintf(f, "\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g",
                s.normal_stress, s.shear_stress, s.pressure, s.friction, s.temperature,
                s.solid_fraction, s.void_ratio, s.inertial_number, s.coordination, s.mean_diameter);
-  std::fprintf(f, "\t%.17g\t%.17g\t%.17g\t%.0f\t%.10g\n", s.peculiar_momentum[0],
+  std::fprintf(f, "\t%.17g\t%.17g\t%.17g\t%.0f\t%.10g", s.peculiar_momentum[0],
                s.peculiar_momentum[1], s.peculiar_momentum[2], s.particles, s.profile_deviation);
+  if (fluid)
+    std::fprintf(f, "\t%.17g\t%.17g\t%.17g\t%.17g\t%.0f", fluid->contact, fluid->lubrication,
+                 fluid->drag, fluid->kinetic, fluid->lubricated_pairs);
+  std::fputc('\n', f);
   std::fflush(f);
 }
 
@@ -175,6 +211,11 @@ int main(int argc, char** argv) {
   const long servo_every = std::lround(deck_variable(handle, "gf_servo_every", rank));
   const int bins = static_cast<int>(std::lround(deck_variable(handle, "gf_profile_bins", rank)));
   const double particle_density = deck_variable(handle, "gf_particle_density", rank);
+  bool wet = false;
+  if (void* p = lammps_extract_variable(handle, const_cast<char*>("gf_viscosity"), nullptr)) {
+    wet = true;
+    std::free(p);
+  }
   std::optional<granflow::dem::NormalStressServo> servo;
   if (constant_pressure)
     servo.emplace(deck_variable(handle, "gf_normal_stress", rank),
@@ -192,7 +233,7 @@ int main(int argc, char** argv) {
     series = std::fopen(opt.series.c_str(), "w");
     profile = std::fopen(opt.profile.c_str(), "w");
     if (!series || !profile) usage_error(rank, "cannot write " + opt.series + " / " + opt.profile);
-    write_series_header(series);
+    write_series_header(series, wet);
     std::fprintf(profile,
                  "# mean v_x (m/s) in %d y bins of equal height; columns: step strain "
                  "bin_0 ... bin_%d\n",
@@ -250,8 +291,10 @@ int main(int argc, char** argv) {
       s.time = double(s.step - shear_begin) * dt;
       s.strain = shear_rate * s.time;
       check_sample(s, rank);
+      FluidStress fluid;
+      if (wet) fluid = fluid_stress(handle, s, rank);
       if (rank == 0) {
-        write_series_row(series, s);
+        write_series_row(series, s, wet ? &fluid : nullptr);
         write_profile_row(profile, s);
       }
       ++samples;

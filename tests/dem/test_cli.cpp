@@ -2,12 +2,15 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
 #include "core/run.hpp"
+#include "dem_coupling/kind/series_table.hpp"
 #include "tests/dem/driver_runner.hpp"
 
 namespace {
@@ -83,6 +86,72 @@ TEST(DemCli, SmallCaseRunsEndToEndAndWritesTheIssueKeys) {
   EXPECT_EQ(summary.get("dem.particles"), 200);
   // The rerun command is in the log, and the deck reproduces the run by hand.
   EXPECT_NE(read(run / "log.txt").find("granflow-dem in.granflow"), std::string::npos);
+}
+
+// The same case immersed (issue 5): η0 = 0.01 Pa s, St = ρ_p d² γ̇/η0 = 12.5, drag + rotational
+// drag + lubrication (fix fluid/le); Δt set by the contact (lubrication τ_n = 5e-5 s ≫ Δt).
+std::string wet_case() {
+  return std::string(small_case) + R"(liquid:
+  enabled: true
+  viscosity: 0.01
+  trulsson_alpha: 0.6
+dem_liquid:
+  maximum_gap: 0.05
+  minimum_gap: 0.001
+)";
+}
+
+TEST(DemCli, WetCaseRunsEndToEndAndItsStressPartsSumToTheShearStress) {
+  const auto dir = fresh_directory("cli_wet");
+  std::ofstream(dir / "case.yaml") << wet_case();
+  ASSERT_EQ(run_cli("run case.yaml --out run", dir), 0) << read(dir / "cli.txt");
+  const auto run = dir / "run";
+  const std::string deck = read(run / "in.granflow");
+  EXPECT_NE(deck.find("fix gf_fluid all fluid/le viscosity 0.01"), std::string::npos) << deck;
+  const auto summary = granflow::core::Summary::read(run / "summary.json");
+  for (const char* key : {"steady.J", "steady.K", "steady.St", "steady.tau_contact",
+                          "steady.tau_lub", "steady.tau_drag", "steady.tau_kin", "steady.J_err",
+                          "steady.tau_contact_err", "steady.tau_lub_err", "dem.dt", "dem.dt_limit"})
+    EXPECT_TRUE(summary.contains(key)) << key;
+  // Definitions: St = ρ_p d² γ̇/η0 (d = 1 mm: the number mean of the bidisperse sizes, to
+  // round-off), J = η0 γ̇/σ_yy, K = J + α I².
+  EXPECT_NEAR(summary.get("steady.St"), 2500 * 1e-6 * 50 / 0.01, 1e-9);
+  const double sigma = summary.get("steady.p"), inertial = summary.get("steady.I");
+  EXPECT_NEAR(summary.get("steady.J"), 0.01 * 50 / sigma, 1e-12);
+  EXPECT_NEAR(summary.get("steady.K"), summary.get("steady.J") + 0.6 * inertial * inertial, 1e-12);
+  EXPECT_EQ(summary.get("dem.dt_limit"), 0);  // contact: 0.1 t_R = 3.9e-6 s < 0.2 τ_n = 1e-5 s
+  // Lubrication resists the shear: its steady shear stress is positive.
+  EXPECT_GT(summary.get("steady.tau_lub"), 0.0);
+  // The parts sum to τ: exactly by construction per sample (τ_contact is the contact virial minus
+  // the fix's lubrication and drag virials), so to the round-off of the series file (τ is written
+  // with 10 significant digits, the parts with 17): 1e-9 of the largest part.
+  const auto series = granflow::dem::read_series_table(run / "series.tsv");
+  ASSERT_GT(series.rows(), 100u);
+  const auto& tau = series.at("tau");
+  for (std::size_t i = 0; i < series.rows(); ++i) {
+    const double parts[] = {series.at("tau_contact")[i], series.at("tau_lub")[i],
+                            series.at("tau_drag")[i], series.at("tau_kin")[i]};
+    double sum = 0, scale = 0;
+    for (double part : parts) {
+      sum += part;
+      scale = std::max(scale, std::abs(part));
+    }
+    ASSERT_NEAR(sum, tau[i], 1e-9 * scale) << "sample " << i;
+  }
+  // The steady means are linear in the series (same start, same batches): they sum too.
+  const double steady_sum = summary.get("steady.tau_contact") + summary.get("steady.tau_lub") +
+                            summary.get("steady.tau_drag") + summary.get("steady.tau_kin");
+  EXPECT_NEAR(steady_sum, summary.get("steady.tau"), 1e-8 * std::abs(summary.get("steady.tau")));
+}
+
+TEST(DemCli, WetCaseWithTooWideLubricationGapIsRefused) {
+  const auto dir = fresh_directory("cli_wet_refused");
+  std::ofstream(dir / "case.yaml") << wet_case();
+  // h_max = 0.5 d exceeds the smallest radius d_small/2 = 0.45 d (bidisperse 0.9/1.1 mm).
+  EXPECT_EQ(run_cli("check case.yaml --set dem_liquid.maximum_gap=0.5", dir),
+            granflow::core::exit_bad_input);
+  EXPECT_NE(read(dir / "cli.txt").find("dem_liquid.maximum_gap"), std::string::npos)
+      << read(dir / "cli.txt");
 }
 
 TEST(DemCli, LiggghtsErrorIsSurfacedWithExitCode4AndTheRunDirectoryIsKept) {
