@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -71,6 +72,7 @@ int main(int argc, char** argv) {
       "  granflow run cases/rev/simple_shear_sweep.yaml --force\n"
       "  granflow check cases/rev/simple_shear_wet.yaml\n"
       "  granflow run cases/pair/dry_pair.yaml && granflow report runs/dry_pair\n"
+      "  granflow study convergence cases/mpm/rheometer_ci.yaml --vary mesh\n"
       "  granflow schema --markdown > docs/cases.md\n\n"
       "Case kinds (kind / test):\n" +
       kinds +
@@ -98,11 +100,66 @@ int main(int argc, char** argv) {
       cli.add_subcommand("report", "write RUN_DIR/report.md: summary, tables and plots of a run");
   report->add_option("run_dir", report_dir, "a run directory (with summary.json)")->required();
 
+  auto* study = cli.add_subcommand("study", "studies made of many runs");
+  auto* convergence = study->add_subcommand(
+      "convergence",
+      "speed vs accuracy: a refinement ladder of an MPM case against its finest run");
+  std::string vary = "mesh,ppc,dt_factor", ladder_mesh, ladder_ppc, ladder_dt;
+  convergence->add_option("case", case_file, "MPM case file (YAML)")->required();
+  convergence->add_option("--out", out_dir,
+                          "study directory (default runs/<case-name>_convergence)");
+  convergence->add_option("--vary", vary, "what to refine: any of mesh,ppc,dt_factor");
+  convergence->add_option("--mesh", ladder_mesh,
+                          "mesh ladder, cells_r x cells_theta: 4x32,6x48,8x64");
+  convergence->add_option("--ppc", ladder_ppc, "points per cell and direction ladder: 1,2,3");
+  convergence->add_option("--dt", ladder_dt, "time step factor ladder: 0.25,0.5,0.9");
+  convergence->add_option("--set", sets, "override a case key in every run: key.path=value")
+      ->take_all();
+  convergence->add_flag("--force", force, "replace an existing study directory");
+  study->require_subcommand(1);
+
   auto* schema = cli.add_subcommand("schema", "print the reference of every case key");
   schema->add_flag("--markdown", markdown, "Markdown (the text of docs/cases.md)");
 
   CLI11_PARSE(cli, argc, argv);
 
+  if (convergence->parsed()) {
+    // The ladder is analysis/rheometer_study.py driving this same executable (one granflow run per
+    // rung); it writes study.csv/.md/.json and pareto.png (docs/speed-accuracy.md).
+    try {
+      load_and_check(registry, case_file, sets);  // bad input stops here, with exit 2
+    } catch (const core::CaseError& e) {
+      std::cerr << "error: " << e.what() << "\n";
+      return core::exit_bad_input;
+    }
+    const fs::path dir =
+        out_dir.empty() ? fs::path("runs") / (fs::path(case_file).stem().string() + "_convergence")
+                        : fs::path(out_dir);
+    if (fs::exists(dir)) {
+      if (!force) {
+        std::cerr << "error: " << dir.string()
+                  << ": the study directory exists; choose --out DIR or pass --force\n";
+        return core::exit_bad_input;
+      }
+      fs::remove_all(dir);
+    }
+    auto quote = [](const std::string& text) {
+      std::string q = "'";
+      for (char ch : text) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+      return q + "'";
+    };
+    std::string command = quote(core::python_interpreter()) + " " +
+                          quote((core::source_dir() / "analysis" / "rheometer_study.py").string()) +
+                          " " + quote(case_file) + " " + quote(dir.string()) + " --granflow " +
+                          quote(fs::read_symlink("/proc/self/exe").string()) + " --vary " +
+                          quote(vary);
+    if (!ladder_mesh.empty()) command += " --mesh " + quote(ladder_mesh);
+    if (!ladder_ppc.empty()) command += " --ppc " + quote(ladder_ppc);
+    if (!ladder_dt.empty()) command += " --dt " + quote(ladder_dt);
+    for (const auto& item : sets) command += " --set " + quote(item);
+    const int status = std::system(command.c_str());
+    return status == 0 ? core::exit_ok : core::exit_failure;
+  }
   if (report->parsed()) {
     try {
       std::cout << analysis::write_report(report_dir).string() << "\n";

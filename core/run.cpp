@@ -123,6 +123,14 @@ std::filesystem::path source_dir() {
   return GRANFLOW_SOURCE_DIR;
 }
 
+std::string python_interpreter() {
+  // Debian's interpreter has python3-matplotlib/python3-h5py; a python3 earlier on PATH (pyenv,
+  // venv) may not.
+  if (const char* env = std::getenv("GRANFLOW_PYTHON"); env && *env) return env;
+  if (std::filesystem::exists("/usr/bin/python3")) return "/usr/bin/python3";
+  return "python3";
+}
+
 static std::shared_ptr<spdlog::logger> make_logger(const std::filesystem::path& file, bool quiet) {
   std::vector<spdlog::sink_ptr> sinks;
   sinks.push_back(std::make_shared<spdlog::sinks::basic_file_sink_mt>(file.string(), true));

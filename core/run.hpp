@@ -105,4 +105,8 @@ struct RunContext {
 // The source tree (for plot scripts), set at build time, overridable by GRANFLOW_HOME.
 std::filesystem::path source_dir();
 
+// The Python interpreter for plots and study scripts: GRANFLOW_PYTHON, else Debian's
+// /usr/bin/python3 (it has python3-matplotlib and python3-h5py), else python3 on PATH.
+std::string python_interpreter();
+
 }  // namespace granflow::core
