@@ -13,6 +13,7 @@
 #include "analysis/steady_state.hpp"
 #include "continuum/multi_regime/model_sections.hpp"
 #include "dem_coupling/kind/launch.hpp"
+#include "dem_coupling/kind/mixed_number_fit.hpp"
 #include "dem_coupling/kind/series_table.hpp"
 
 namespace granflow::dem {
@@ -570,6 +571,33 @@ int run_shear(core::RunContext& ctx) {
     }
   }
   if (sweep) ctx.summary.set("sweep.count", double(conditions.size()));
+  if (sweep && any_wet) {
+    // α of K = J + α I² that collapses μ on Boyer's law in K (kind/mixed_number_fit.hpp).
+    std::vector<double> j, i, mu, mu_err;
+    for (const auto& r : results) {
+      auto get = [&](const char* key) {
+        const auto it = r.values.find(key);
+        return it == r.values.end() ? nan : it->second;
+      };
+      j.push_back(get("J"));
+      i.push_back(get("I"));
+      mu.push_back(get("mu"));
+      mu_err.push_back(get("mu_err"));
+    }
+    const MixedNumberFit fit = fit_trulsson_alpha(j, i, mu, mu_err);
+    if (fit.points >= 2) {
+      ctx.summary.set("fit.alpha", fit.alpha);
+      ctx.summary.set("fit.alpha_rms", fit.rms);
+      ctx.summary.set("fit.alpha_chi2_per_dof", fit.chi2_per_dof);
+      ctx.summary.set("fit.alpha_points", fit.points);
+      out.attribute("/steady", "fitted_alpha", fit.alpha);
+      out.flush();
+      ctx.log->info(
+          "K = J + α I²: α = {:.4g} collapses μ on Boyer's μ(K) (RMS {:.3g}, χ²/dof {:.3g}, {} "
+          "points)",
+          fit.alpha, fit.rms, fit.chi2_per_dof, fit.points);
+    }
+  }
   if (code == core::exit_ok) ctx.plot("plot_dem.py");
   return code;
 }

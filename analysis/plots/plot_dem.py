@@ -6,6 +6,11 @@ Sweeps: mu_I.png, phi_I.png, T_I.png with the mu(I) law of model.md section 7 ov
   mu(I) = mu_s + (mu_2 - mu_s) / (I_0 / I + 1)  (GDR MiDi 2004; Jop et al. 2006:
   mu_s = 0.38, mu_2 = 0.64, I_0 = 0.28), frictionless mu_s ~ 0.10 (Peyneau & Roux 2008),
   critical fractions nu_c ~ 0.587 (mu_p = 0.5) and 0.639 (frictionless) (Chialvo et al. 2012).
+Immersed sweeps (liquid.enabled; /steady/viscous_number present): mu_J.png, phi_J.png, mu_K.png,
+mu_phi_wet_I.png, stress_parts.png, with Boyer et al. (2011) (model.md section 7):
+  mu(J) = mu_1 + (mu_2 - mu_1)/(1 + J_0/J) + J + (5/2) nu_m J^(1/2),  phi(J) = nu_m/(1 + J^(1/2)),
+  mu_1 = 0.32, mu_2 = 0.7, J_0 = 0.005, nu_m = 0.585; against K = J + alpha I^2 the same law in K
+  (Trulsson et al. 2012 form), alpha = fit.alpha of summary.json if present, else the case's.
 Usage: plot_dem.py RUN_DIR"""
 import os
 import sys
@@ -18,6 +23,16 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 MU_S, MU_2, I_0 = 0.38, 0.64, 0.28
+BOYER_MU_1, BOYER_MU_2, BOYER_J_0, BOYER_NU_M = 0.32, 0.7, 0.005, 0.585
+
+
+def boyer_mu(J):
+    return (BOYER_MU_1 + (BOYER_MU_2 - BOYER_MU_1) / (1.0 + BOYER_J_0 / J) + J
+            + 2.5 * BOYER_NU_M * np.sqrt(J))
+
+
+def boyer_phi(J):
+    return BOYER_NU_M / (1.0 + np.sqrt(J))
 
 
 def mu_of_I(I, mu_s=MU_S, mu_2=MU_2, i0=I_0):
@@ -115,6 +130,65 @@ def sweep_plots(run, h5):
     plt.close(fig)
 
 
+def wet_sweep_plots(run, h5):
+    s = h5["steady"]
+    J, Je = s["viscous_number"][:], s["viscous_number_err"][:]
+    K, Ke = s["mixed_number"][:], s["mixed_number_err"][:]
+    I, Ie = s["inertial_number"][:], s["inertial_number_err"][:]
+    St = s["stokes_number"][:]
+    mu, mue = s["friction"][:], s["friction_err"][:]
+    phi, phie = s["solid_fraction"][:], s["solid_fraction_err"][:]
+    ok = np.isfinite(mu) & (J > 0)
+    if not ok.any():
+        return
+    k_label = "K = J + α I² (case α)"
+    if "fitted_alpha" in s.attrs:  # fit.alpha of the run (dem_coupling/kind/mixed_number_fit.hpp)
+        alpha = float(s.attrs["fitted_alpha"])
+        K = J + alpha * I * I
+        Ke = K * Je / J  # J and I² both ∝ 1/σ_yy
+        k_label = f"K = J + α I², fitted α = {alpha:.3g}"
+    lo, hi = min(J[ok].min(), K[ok].min()), max(J[ok].max(), K[ok].max())
+    grid = np.logspace(np.log10(max(lo, 1e-6)) - 0.5, np.log10(hi) + 0.5, 200)
+
+    def scatter(ax, x, xe, y, ye):
+        sc = ax.scatter(x[ok], y[ok], c=np.log10(St[ok]), cmap="viridis", s=18, zorder=3)
+        ax.errorbar(x[ok], y[ok], xerr=xe[ok], yerr=ye[ok], fmt="none", ecolor="gray", lw=0.6)
+        return sc
+
+    for name, x, xe, y, ye, law, xlabel, ylabel in [
+            ("mu_J", J, Je, mu, mue, boyer_mu, "J = η0 γ̇ / σ_yy", "μ"),
+            ("phi_J", J, Je, phi, phie, boyer_phi, "J", "φ"),
+            ("mu_K", K, Ke, mu, mue, boyer_mu, k_label, "μ"),
+            ("mu_I_wet", I, Ie, mu, mue, None, "I = γ̇ d / sqrt(σ_yy/ρ_p)", "μ")]:
+        fig, ax = plt.subplots(figsize=(5.5, 4.2))
+        sc = scatter(ax, x, xe, y, ye)
+        if law is not None:
+            ax.plot(grid, law(grid), "k-", lw=0.8, label="Boyer et al. 2011"
+                    + (" (law in K)" if name == "mu_K" else ""))
+            ax.legend(fontsize=7)
+        else:
+            ax.plot(grid, mu_of_I(grid), "k--", lw=0.8, label="dry μ(I) (Jop 2006)")
+            ax.legend(fontsize=7)
+        fig.colorbar(sc, ax=ax, label="log10 St")
+        ax.set(xscale="log", xlabel=xlabel, ylabel=ylabel, title=f"immersed: {ylabel}({xlabel[0]})")
+        fig.tight_layout()
+        fig.savefig(os.path.join(run, f"{name}.png"), dpi=120)
+        plt.close(fig)
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    tau = s["shear_stress"][:]
+    for key, label in [("shear_stress_contact", "contact"), ("shear_stress_lubrication",
+                       "lubrication"), ("shear_stress_drag", "drag"),
+                       ("shear_stress_kinetic", "kinetic")]:
+        ax.errorbar(St[ok], s[key][:][ok] / tau[ok], yerr=s[key + "_err"][:][ok] / tau[ok],
+                    fmt="o-", ms=4, label=label)
+    ax.set(xscale="log", xlabel="St = ρ_p d² γ̇ / η0", ylabel="part of τ",
+           title="shear stress split")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(run, "stress_parts.png"), dpi=120)
+    plt.close(fig)
+
+
 def main():
     run = sys.argv[1]
     with h5py.File(os.path.join(run, "result.h5"), "r") as h5:
@@ -123,6 +197,8 @@ def main():
                 point_plots(run, h5, n)
         if "steady" in h5 and h5["steady/friction"].shape[0] > 1:
             sweep_plots(run, h5)
+            if "viscous_number" in h5["steady"]:
+                wet_sweep_plots(run, h5)
 
 
 if __name__ == "__main__":
