@@ -1,6 +1,6 @@
 // Cost of one multi-regime material-point update (collisional + liquid, T balance; and the full
 // update with force chains), of one REV simple-shear run and of one undrained triaxial case, for
-// docs/performance-rev.md.
+// docs/performance.md#rev.
 #include <benchmark/benchmark.h>
 
 #include "continuum/rev/element_test.hpp"

@@ -1,4 +1,4 @@
-# DEM (granflow-dem) timing. Figures and the commands: docs/performance-dem.md.
+# DEM (granflow-dem) timing. Figures and the commands: docs/performance.md#dem.
 #   bench_dem_harness: Google Benchmark of one harness sample (accumulate + finalize) per particle.
 #   bench_dem_timing:  runs granflow-dem at 1 and 2 ranks on a generated shear deck and reports
 #                      particle-steps/s and the harness overhead against an unsampled run.

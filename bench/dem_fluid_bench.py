@@ -8,7 +8,7 @@ lubrication, eta = 0.01 Pa s, h_max = 50 um, h_min = 1 um), on 1 and 2 MPI ranks
 shear-stage wall time (driver_stats.tsv: liggghts_s, the LIGGGHTS part of the shear stage).
 
 usage: bench/dem_fluid_bench.py BUILD_DIR [--steps N] [--repeat R] [--out DIR] [--breakdown]
-Prints a markdown table (s per 1000 steps; wet/dry ratio; speed-up) for docs/performance-dem_fluid.md.
+Prints a markdown table (s per 1000 steps; wet/dry ratio; speed-up) for docs/performance.md#dem_fluid.
 --breakdown adds LIGGGHTS' own timing split (Pair / Neigh / Comm / Other, 1 rank, one
 uninterrupted `run` inside the deck) for: dry; dry with the wet neighbour-list reach
 (contact_distance_factor 1.0556 = 1 + h_max/d_small); drag + rotational drag only; all forces.
