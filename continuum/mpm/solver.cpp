@@ -668,18 +668,7 @@ void Solver::update_points(const G& grid) {
         // the shape functions of the start-of-step configuration.
         dx[p] = dt * vpx;
         dy[p] = dt * vpy;
-        if (usl) {
-          pts.Lxx[p] = Lxx;
-          pts.Lxy[p] = Lxy;
-          pts.Lyx[p] = Lyx;
-          pts.Lyy[p] = Lyy;
-          if (extras) {
-            div_solid_[p] = div_s;
-            liquid_cell_[p] = st.node[0];
-            liquid_cell_[p] = st.node[0];
-            liquid_.porosity[p] = std::clamp(n_at, 1e-3, 1.0);
-          }
-        }
+        if (usl) store_gradient(pts, p, Lxx, Lxy, Lyx, Lyy, extras, div_s, n_at, st.node[0]);
       }
     }
   };
@@ -740,6 +729,20 @@ void Solver::remap_momentum(const G& grid) {
   if (wet) apply_conditions(Phase::liquid, out.vx_liquid.data(), out.vy_liquid.data());
 }
 
+inline void Solver::store_gradient(PointFields& pts, long p, double Lxx, double Lxy, double Lyx,
+                                   double Lyy, bool extras, double div_s, double n_at,
+                                   int first_node) {
+  pts.Lxx[p] = Lxx;
+  pts.Lxy[p] = Lxy;
+  pts.Lyx[p] = Lyx;
+  pts.Lyy[p] = Lyy;
+  if (extras) {
+    div_solid_[p] = div_s;
+    liquid_cell_[p] = first_node;
+    liquid_.porosity[p] = std::clamp(n_at, 1e-3, 1.0);  // floor: a point never sees n = 0
+  }
+}
+
 template <class G, ShapeKind S>
 void Solver::velocity_gradients(const G& grid, bool liquid_extras) {
   auto grad = [&](PointFields& pts, const double* vx, const double* vy, bool extras) {
@@ -763,15 +766,7 @@ void Solver::velocity_gradients(const G& grid, bool liquid_extras) {
             n_at += st.N[k] * porosity_[a];
           }
         }
-        pts.Lxx[p] = Lxx;
-        pts.Lxy[p] = Lxy;
-        pts.Lyx[p] = Lyx;
-        pts.Lyy[p] = Lyy;
-        if (extras) {
-          div_solid_[p] = div_s;
-          liquid_cell_[p] = st.node[0];
-          liquid_.porosity[p] = std::clamp(n_at, 1e-3, 1.0);
-        }
+        store_gradient(pts, p, Lxx, Lxy, Lyx, Lyy, extras, div_s, n_at, st.node[0]);
       }
     }
   };

@@ -163,6 +163,10 @@ class Solver {
   void remap_momentum(const G& grid);
   template <class G, ShapeKind S>
   void velocity_gradients(const G& grid, bool liquid_extras);
+  // Store point p's velocity gradient and, for liquid points (`extras`), the solid divergence
+  // tr(D_S) and the porosity interpolated there (shared by the USL G2P and velocity_gradients).
+  void store_gradient(PointFields& pts, long p, double Lxx, double Lxy, double Lyx, double Lyy,
+                      bool extras, double div_s, double n_at, int first_node);
   void constitutive_update();
   template <class G, ShapeKind S>
   void conduct_temperature(const G& grid);
