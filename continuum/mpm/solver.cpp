@@ -884,11 +884,18 @@ void Solver::refresh_liquid_state() {
 void Solver::constitutive_update() {
   const double dt = dt_;
   // Solid: one call per material over its range, then volume and porosity.
-  StressUpdateView view{
-      solid_.Lxx.data(),      solid_.Lxy.data(),         solid_.Lyx.data(), solid_.Lyy.data(),
-      solid_.porosity.data(), solid_.temperature.data(), solid_.sxx.data(), solid_.syy.data(),
-      solid_.szz.data(),      solid_.sxy.data(),         threads_,
-      options_.material_conductivity ? point_conductivity_.data() : nullptr};
+  StressUpdateView view{solid_.Lxx.data(),
+                        solid_.Lxy.data(),
+                        solid_.Lyx.data(),
+                        solid_.Lyy.data(),
+                        solid_.porosity.data(),
+                        solid_.temperature.data(),
+                        solid_.sxx.data(),
+                        solid_.syy.data(),
+                        solid_.szz.data(),
+                        solid_.sxy.data(),
+                        threads_,
+                        options_.material_conductivity ? point_conductivity_.data() : nullptr};
   for (auto& m : materials_) m->update_stress(view, dt);
   const long ns = static_cast<long>(solid_.size());
   long bad_solid = -1;

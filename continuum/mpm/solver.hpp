@@ -64,8 +64,8 @@ struct SolverOptions {
   // ∫ div(mixture flux) dV = 0 exactly, so the volume-weighted mean of the liquid points'
   // volumetric rate, which point quadrature leaves non-zero, is removed before dp is formed.
   bool closed_domain = false;
-  long dt_update_interval = 50;              // recompute the critical step every so many steps
-  int threads = 0;                           // 0: OpenMP default
+  long dt_update_interval = 50;  // recompute the critical step every so many steps
+  int threads = 0;               // 0: OpenMP default
 };
 
 // Critical time steps (before the CFL factor) of each mechanism, s; +inf when absent.
