@@ -21,6 +21,35 @@ enum RemapField : int { R_MS, R_PXS, R_PYS, R_ML, R_PXL, R_PYL };
 constexpr double inf = std::numeric_limits<double>::infinity();
 
 inline double sign(double v) { return v > 0.0 ? 1.0 : (v < 0.0 ? -1.0 : 0.0); }
+
+// Thread t's fixed contiguous chunk [b, e) of n points (or nodes) among T threads.
+inline void chunk(std::size_t n, int t, int T, std::size_t& b, std::size_t& e) {
+  b = n * t / T;
+  e = n * (t + 1) / T;
+}
+inline void node_share(int nn, int t, int T, int& b, int& e) {
+  b = static_cast<int>(static_cast<long>(nn) * t / T);
+  e = static_cast<int>(static_cast<long>(nn) * (t + 1) / T);
+}
+
+// The span [begin, end) of nodes a thread's scatter touched.
+struct NodeSpan {
+  int begin = std::numeric_limits<int>::max(), end = 0;
+  template <class G>
+  void add(const Stencil& st) {
+    if constexpr (std::is_same_v<G, CartesianGrid>) {
+      // Cartesian stencils list their nodes in increasing order (j outer, i inner).
+      if (st.count == 0) return;
+      begin = std::min(begin, st.node[0]);
+      end = std::max(end, st.node[st.count - 1] + 1);
+    } else {  // polar: the θ direction wraps around
+      for (int k = 0; k < st.count; ++k) {
+        begin = std::min(begin, st.node[k]);
+        end = std::max(end, st.node[k] + 1);
+      }
+    }
+  }
+};
 }  // namespace
 
 double TimeStepLimits::critical() const { return std::min({wave, viscous, drag, conduction}); }
@@ -104,7 +133,7 @@ void Solver::add_nodal_force(Phase phase, int node, double fx, double fy) {
 
 void Solver::initialize() {
   // Automatic thread count: one thread per 10,000 points (at most OMP_NUM_THREADS); below that
-  // the fork/join of the ~10 parallel regions per step costs more than it saves.
+  // the fork/join of the 3 parallel regions (and 4 barriers) per step costs more than it saves.
   const long points = static_cast<long>(solid_.size() + liquid_.size());
   threads_ = options_.threads > 0
                  ? options_.threads
@@ -112,6 +141,7 @@ void Solver::initialize() {
                        std::clamp(points / 10000L, 1L, static_cast<long>(omp_get_max_threads())));
   acc_.assign(static_cast<std::size_t>(NF) * nn_, 0.0);
   if (threads_ > 1) scratch_.assign(static_cast<std::size_t>(NF) * nn_ * threads_, 0.0);
+  slots_.assign(threads_, ThreadSlot{});
   for (auto* v : {&asx_, &asy_, &alx_, &aly_}) v->assign(nn_, 0.0);
   porosity_.assign(nn_, 1.0);
   for (int phase = 0; phase < 2; ++phase) {
@@ -302,57 +332,129 @@ void Solver::step() {
 
 template <class G, ShapeKind S>
 void Solver::step_impl(const G& grid) {
-  map_first<G, S>(grid);
-  solve_nodes();
-  update_points<G, S>(grid);
-  if (options_.scheme == UpdateScheme::musl) {
-    remap_momentum<G, S>(grid);
-    velocity_gradients<G, S>(grid, liquid_.size() > 0);
+  const bool wet = liquid_.size() > 0;
+  const bool musl = options_.scheme == UpdateScheme::musl;
+  const int T = threads_;
+  for (auto& slot : slots_) slot.lost[0] = slot.lost[1] = -1;
+  // The grid part of the step as ONE parallel region: every piece is split among the threads
+  // (points in fixed contiguous chunks, nodes in fixed contiguous shares) and the pieces are
+  // separated by barriers, instead of a fork/join per loop (each costs a futex wake-up of the
+  // sleeping thread with OMP_WAIT_POLICY=passive). Lost points are found in the first map; every
+  // thread reads the same flags after the first barrier and the region stops there.
+  auto grid_part = [&](int t) {
+    int b, e;
+    node_share(nn_, t, T, b, e);
+    map_first_part<G, S>(grid, t);
+    if (T > 1) {
+#pragma omp barrier
+    }
+    for (const auto& slot : slots_) {
+      if (slot.lost[0] >= 0 || slot.lost[1] >= 0) return;
+    }
+    // No thread locates a point between this barrier and the next one, so the flag can be set
+    // here by one thread without a race.
+    if (t == 0) cache_[0].valid = cache_[1].valid = true;
+    reduce_part(wet ? NF : solid_fields, t);
+    solve_nodes(b, e);
+    if (T > 1) {
+#pragma omp barrier
+    }
+    update_points_part<G, S>(grid, t, musl);
+    if (!musl) return;
+    if (T > 1) {
+#pragma omp barrier
+    }
+    reduce_part(wet ? 6 : 3, t);
+    remap_nodes(b, e);
+    if (T > 1) {
+#pragma omp barrier
+    }
+    velocity_gradients_part<G, S>(grid, t, wet);
+  };
+  if (T == 1) {
+    grid_part(0);
+  } else {
+#pragma omp parallel num_threads(T)
+    grid_part(omp_get_thread_num());
   }
-  constitutive_update();
-  if ((options_.temperature_conductivity > 0 || options_.material_conductivity) &&
-      solid_.size() > 0)
+  throw_if_lost();
+  cache_[0].valid = cache_[1].valid = true;
+  const bool conduct = (options_.temperature_conductivity > 0 || options_.material_conductivity) &&
+                       solid_.size() > 0;
+  // Without conduction (which still needs the start-of-step positions) the points move in the
+  // constitutive pass.
+  constitutive_update(!conduct);
+  if (conduct) {
     conduct_temperature<G, S>(grid);
-  move_points();
+    move_points();
+  }
   cache_[0].valid = cache_[1].valid = false;  // the points moved: locate again next step
   time_ += dt_;
   ++step_;
   if (options_.dt_update_interval > 0 && step_ % options_.dt_update_interval == 0) update_dt();
 }
 
-// Run `body(acc, t, T)` on every thread with its own zeroed accumulator of `fields` fields, then
-// sum the per-thread accumulators into acc_ in thread order (deterministic for a thread count).
-template <class Body>
-void Solver::scatter(int fields, Body&& body) {
-  const std::size_t size = static_cast<std::size_t>(fields) * nn_;
+double* Solver::scatter_buffer(int t, int fields) {
   if (threads_ == 1) {
-    std::fill(acc_.begin(), acc_.begin() + size, 0.0);
-    body(acc_.data(), 0, 1);
-    return;
+    std::fill(acc_.begin(), acc_.begin() + static_cast<std::size_t>(fields) * nn_, 0.0);
+    return acc_.data();
   }
+  double* mine = scratch_.data() + static_cast<std::size_t>(NF) * nn_ * t;
+  ThreadSlot& slot = slots_[t];
+  for (int f = 0; f < slot.dirty_fields; ++f) {
+    double* field = mine + static_cast<std::size_t>(f) * nn_;
+    std::fill(field + slot.dirty_begin, field + slot.dirty_end, 0.0);
+  }
+  slot.dirty_fields = slot.dirty_begin = slot.dirty_end = 0;
+  return mine;
+}
+
+void Solver::mark_dirty(int t, int fields, int begin, int end) {
+  if (threads_ == 1) return;
+  ThreadSlot& slot = slots_[t];
+  slot.dirty_fields = begin < end ? fields : 0;
+  slot.dirty_begin = begin < end ? begin : 0;
+  slot.dirty_end = begin < end ? end : 0;
+}
+
+// Sum in thread order starting from 0.0, as a serial loop over the threads would: a given thread
+// count reproduces itself bit for bit. A buffer is zero outside the span its thread dirtied, so
+// only that span is read (a thread's chunk of points touches a band of the grid, not all of it).
+void Solver::reduce_part(int fields, int t) {
+  if (threads_ == 1) return;
+  int b, e;
+  node_share(nn_, t, threads_, b, e);
   const std::size_t stride = static_cast<std::size_t>(NF) * nn_;
-#pragma omp parallel num_threads(threads_) if (threads_ > 1)
-  {
-    const int t = omp_get_thread_num();
-    double* mine = scratch_.data() + stride * t;
-    std::fill(mine, mine + size, 0.0);
-    body(mine, t, threads_);
-#pragma omp barrier
-#pragma omp for schedule(static)
-    for (std::size_t k = 0; k < size; ++k) {
-      double sum = 0.0;
-      for (int u = 0; u < threads_; ++u) sum += scratch_[stride * u + k];
-      acc_[k] = sum;
+  for (int f = 0; f < fields; ++f) {
+    double* out = acc_.data() + static_cast<std::size_t>(f) * nn_;
+    std::fill(out + b, out + e, 0.0);
+    for (int u = 0; u < threads_; ++u) {
+      const ThreadSlot& slot = slots_[u];
+      if (f >= slot.dirty_fields) continue;
+      const double* in = scratch_.data() + stride * u + static_cast<std::size_t>(f) * nn_;
+      const int lo = std::max(b, slot.dirty_begin), hi = std::min(e, slot.dirty_end);
+      for (int a = lo; a < hi; ++a) out[a] += in[a];
     }
   }
 }
 
-namespace {
-inline void chunk(std::size_t n, int t, int T, std::size_t& b, std::size_t& e) {
-  b = n * t / T;
-  e = n * (t + 1) / T;
+// Run `body(acc, t, T)` on every thread with its own zeroed accumulator of `fields` fields, then
+// sum the per-thread accumulators into acc_ in thread order (deterministic for a thread count).
+template <class Body>
+void Solver::scatter(int fields, Body&& body) {
+  if (threads_ == 1) {
+    body(scatter_buffer(0, fields), 0, 1);
+    return;
+  }
+#pragma omp parallel num_threads(threads_)
+  {
+    const int t = omp_get_thread_num();
+    body(scatter_buffer(t, fields), t, threads_);
+    mark_dirty(t, fields, 0, nn_);
+#pragma omp barrier
+    reduce_part(fields, t);
+  }
 }
-}  // namespace
 
 template <class G, ShapeKind S>
 inline bool Solver::locate(const G& grid, int phase, std::size_t p, Stencil& st) {
@@ -388,44 +490,47 @@ inline bool Solver::locate(const G& grid, int phase, std::size_t p, Stencil& st)
 }
 
 template <class G, ShapeKind S>
-void Solver::map_first(const G& grid) {
+void Solver::map_first_part(const G& grid, int t) {
   const bool wet = liquid_.size() > 0;
-  const int nn = nn_;
+  const int nn = nn_, T = threads_;
+  const int fields = wet ? NF : solid_fields;
   const double s = options_.mass_scaling, gx = options_.gravity_x, gy = options_.gravity_y;
-  std::atomic<long> lost_solid{-1}, lost_liquid{-1};
-  scatter(wet ? NF : solid_fields, [&](double* acc, int t, int T) {
-    double* ms = acc + MS * nn;
-    double* pxs = acc + PXS * nn;
-    double* pys = acc + PYS * nn;
-    double* fxs = acc + FXS * nn;
-    double* fys = acc + FYS * nn;
-    double* nms = acc + NMS * nn;
-    std::size_t b, e;
-    chunk(solid_.size(), t, T, b, e);
-    const SolidPoints& sp = solid_;
-    Stencil st{};
-    for (std::size_t p = b; p < e; ++p) {
-      if (!locate<G, S>(grid, 0, p, st)) {
-        lost_solid = static_cast<long>(p);
-        continue;
-      }
-      const double m = sp.mass[p], mi = m * s, V = sp.volume[p];
-      const double mvx = mi * sp.vx[p], mvy = mi * sp.vy[p], mn = m * sp.porosity[p];
-      const double fx = m * gx + sp.fx_ext[p], fy = m * gy + sp.fy_ext[p];
-      const double sxx = sp.sxx[p] * V, syy = sp.syy[p] * V, sxy = sp.sxy[p] * V;
-      for (int k = 0; k < st.count; ++k) {
-        const int a = st.node[k];
-        const double N = st.N[k], dx = st.dNdx[k], dy = st.dNdy[k];
-        ms[a] += N * mi;
-        pxs[a] += N * mvx;
-        pys[a] += N * mvy;
-        // f_int = -∫ ∇N · σ' dV ; f_ext = N (m g + point load)
-        fxs[a] += N * fx - (dx * sxx + dy * sxy);
-        fys[a] += N * fy - (dx * sxy + dy * syy);
-        nms[a] += N * mn;
-      }
+  double* acc = scatter_buffer(t, fields);
+  NodeSpan span;
+  long* lost = slots_[t].lost;
+  double* ms = acc + MS * nn;
+  double* pxs = acc + PXS * nn;
+  double* pys = acc + PYS * nn;
+  double* fxs = acc + FXS * nn;
+  double* fys = acc + FYS * nn;
+  double* nms = acc + NMS * nn;
+  std::size_t b, e;
+  chunk(solid_.size(), t, T, b, e);
+  const SolidPoints& sp = solid_;
+  Stencil st{};
+  for (std::size_t p = b; p < e; ++p) {
+    if (!locate<G, S>(grid, 0, p, st)) {
+      if (lost[0] < 0) lost[0] = static_cast<long>(p);
+      continue;
     }
-    if (!wet) return;
+    if (T > 1) span.add<G>(st);
+    const double m = sp.mass[p], mi = m * s, V = sp.volume[p];
+    const double mvx = mi * sp.vx[p], mvy = mi * sp.vy[p], mn = m * sp.porosity[p];
+    const double fx = m * gx + sp.fx_ext[p], fy = m * gy + sp.fy_ext[p];
+    const double sxx = sp.sxx[p] * V, syy = sp.syy[p] * V, sxy = sp.sxy[p] * V;
+    for (int k = 0; k < st.count; ++k) {
+      const int a = st.node[k];
+      const double N = st.N[k], dx = st.dNdx[k], dy = st.dNdy[k];
+      ms[a] += N * mi;
+      pxs[a] += N * mvx;
+      pys[a] += N * mvy;
+      // f_int = -∫ ∇N · σ' dV ; f_ext = N (m g + point load)
+      fxs[a] += N * fx - (dx * sxx + dy * sxy);
+      fys[a] += N * fy - (dx * sxy + dy * syy);
+      nms[a] += N * mn;
+    }
+  }
+  if (wet) {
     double* ml = acc + ML * nn;
     double* pxl = acc + PXL * nn;
     double* pyl = acc + PYL * nn;
@@ -438,9 +543,10 @@ void Solver::map_first(const G& grid) {
     chunk(lp.size(), t, T, b, e);
     for (std::size_t p = b; p < e; ++p) {
       if (!locate<G, S>(grid, 1, p, st)) {
-        lost_liquid = static_cast<long>(p);
+        if (lost[1] < 0) lost[1] = static_cast<long>(p);
         continue;
       }
+      if (T > 1) span.add<G>(st);
       const double m = lp.mass[p], mi = m * s, V = lp.volume[p];
       const double mvx = mi * lp.vx[p], mvy = mi * lp.vy[p];
       const double fx = m * gx + lp.fx_ext[p], fy = m * gy + lp.fy_ext[p];
@@ -461,10 +567,39 @@ void Solver::map_first(const G& grid) {
         cd[a] += N * beta_V;
       }
     }
-  });
-  if (lost_solid >= 0) lost_point(Phase::solid, lost_solid);
-  if (lost_liquid >= 0) lost_point(Phase::liquid, lost_liquid);
+  }
+  mark_dirty(t, fields, span.begin, span.end);
+}
+
+template <class G, ShapeKind S>
+void Solver::map_first(const G& grid) {
+  const int fields = liquid_.size() > 0 ? NF : solid_fields;
+  for (auto& slot : slots_) slot.lost[0] = slot.lost[1] = -1;
+  if (threads_ == 1) {
+    map_first_part<G, S>(grid, 0);
+  } else {
+#pragma omp parallel num_threads(threads_)
+    {
+      const int t = omp_get_thread_num();
+      map_first_part<G, S>(grid, t);
+#pragma omp barrier
+      reduce_part(fields, t);
+    }
+  }
+  throw_if_lost();
   cache_[0].valid = cache_[1].valid = true;  // stencils at the current positions
+}
+
+void Solver::throw_if_lost() const {
+  // The lowest index over the threads (each slot holds the first of its chunk), solid first.
+  for (int phase = 0; phase < 2; ++phase) {
+    long first = -1;
+    for (const auto& slot : slots_) {
+      if (slot.lost[phase] >= 0 && (first < 0 || slot.lost[phase] < first))
+        first = slot.lost[phase];
+    }
+    if (first >= 0) lost_point(static_cast<Phase>(phase), first);
+  }
 }
 
 void Solver::lost_point(Phase phase, long index) const {
@@ -489,11 +624,11 @@ void Solver::solve_porosity_only() {
   }
 }
 
-void Solver::solve_nodes() {
+void Solver::solve_nodes(int begin, int end) {
   const bool wet = liquid_.size() > 0;
   const int nn = nn_;
   for (const auto& f : nodal_forces_) {
-    if (f.phase == 1 && !wet) continue;
+    if ((f.phase == 1 && !wet) || f.node < begin || f.node >= end) continue;
     acc_[(f.phase == 0 ? FXS : FXL) * nn + f.node] += f.fx;
     acc_[(f.phase == 0 ? FYS : FYL) * nn + f.node] += f.fy;
   }
@@ -502,8 +637,7 @@ void Solver::solve_nodes() {
   const bool implicit_drag = options_.drag_integration == DragIntegration::semi_implicit;
   double* A = acc_.data();
   NodeFields& out = nodes_;
-#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
-  for (int a = 0; a < nn; ++a) {
+  for (int a = begin; a < end; ++a) {
     const double ms = A[MS * nn + a];
     const double n = ms > floor ? std::clamp(A[NMS * nn + a] / (ms / s), 0.0, 1.0) : 1.0;
     porosity_[a] = n;
@@ -594,8 +728,9 @@ void Solver::solve_nodes() {
     double* ax = phase == 0 ? asx_.data() : alx_.data();
     double* ay = phase == 0 ? asy_.data() : aly_.data();
     const int fm = phase == 0 ? MS : ML, fpx = phase == 0 ? PXS : PXL, fpy = phase == 0 ? PYS : PYL;
-    apply_conditions(static_cast<Phase>(phase), vx, vy);
+    apply_conditions(static_cast<Phase>(phase), vx, vy, begin, end);
     for (int a : conditions_[phase].list) {
+      if (a < begin || a >= end) continue;
       const double m = A[fm * nn + a];
       const double v0x = m > floor ? A[fpx * nn + a] / m : 0.0;
       const double v0y = m > floor ? A[fpy * nn + a] / m : 0.0;
@@ -605,10 +740,11 @@ void Solver::solve_nodes() {
   }
 }
 
-void Solver::apply_conditions(Phase phase, double* vx, double* vy) const {
+void Solver::apply_conditions(Phase phase, double* vx, double* vy, int begin, int end) const {
   const auto& c = conditions_[static_cast<int>(phase)];
   const double t = time_ + dt_;
   for (int a : c.list) {
+    if (a < begin || a >= end) continue;
     const double f = c.ramp[a] > 0 ? std::min(1.0, t / c.ramp[a]) : 1.0;
     if (c.frame[a] == static_cast<std::uint8_t>(Frame::xy)) {
       if (c.mask[a] & 1u) vx[a] = f * c.value0[a];
@@ -624,79 +760,60 @@ void Solver::apply_conditions(Phase phase, double* vx, double* vy) const {
   }
 }
 
+// G2P; with `remap` (MUSL) the updated momentum m v of each point is mapped back to the nodes in
+// the same pass (it needs nothing but the point's own new velocity).
 template <class G, ShapeKind S>
-void Solver::update_points(const G& grid) {
-  const double dt = dt_, flip = options_.flip;
+void Solver::update_points_part(const G& grid, int t, bool remap) {
+  const double dt = dt_, flip = options_.flip, s = options_.mass_scaling;
   const bool usl = options_.scheme == UpdateScheme::usl;
   const bool wet = liquid_.size() > 0;
+  const int nn = nn_, T = threads_;
+  const int fields = wet ? 6 : 3;
+  double* acc = remap ? scatter_buffer(t, fields) : nullptr;
+  NodeSpan span;
   auto g2p = [&](PointFields& pts, const double* vx, const double* vy, const double* ax,
-                 const double* ay, bool extras) {
+                 const double* ay, bool extras, double* m_, double* px_, double* py_) {
     const int phase = &pts == static_cast<PointFields*>(&liquid_) ? 1 : 0;
-    const long n = static_cast<long>(pts.size());
     double* dx = displacement_x_[phase].data();
     double* dy = displacement_y_[phase].data();
-#pragma omp parallel num_threads(threads_) if (threads_ > 1)
-    {
-      Stencil st{};
-#pragma omp for schedule(static)
-      for (long p = 0; p < n; ++p) {
-        if (!locate<G, S>(grid, phase, p, st)) continue;  // caught in the next map
-        double vpx = 0, vpy = 0, apx = 0, apy = 0, Lxx = 0, Lxy = 0, Lyx = 0, Lyy = 0;
-        double div_s = 0, n_at = 0;
-        for (int k = 0; k < st.count; ++k) {
-          const int a = st.node[k];
-          const double N = st.N[k];
-          vpx += N * vx[a];
-          vpy += N * vy[a];
-          apx += N * ax[a];
-          apy += N * ay[a];
-          if (usl) {
-            Lxx += st.dNdx[k] * vx[a];
-            Lxy += st.dNdy[k] * vx[a];
-            Lyx += st.dNdx[k] * vy[a];
-            Lyy += st.dNdy[k] * vy[a];
-            if (extras) {
-              div_s += st.dNdx[k] * nodes_.vx_solid[a] + st.dNdy[k] * nodes_.vy_solid[a];
-              n_at += N * porosity_[a];
-            }
+    std::size_t b, e;
+    chunk(pts.size(), t, T, b, e);
+    Stencil st{};
+    for (std::size_t p = b; p < e; ++p) {
+      if (!locate<G, S>(grid, phase, p, st)) continue;  // reported by the first map
+      double vpx = 0, vpy = 0, apx = 0, apy = 0, Lxx = 0, Lxy = 0, Lyx = 0, Lyy = 0;
+      double div_s = 0, n_at = 0;
+      for (int k = 0; k < st.count; ++k) {
+        const int a = st.node[k];
+        const double N = st.N[k];
+        vpx += N * vx[a];
+        vpy += N * vy[a];
+        apx += N * ax[a];
+        apy += N * ay[a];
+        if (usl) {
+          Lxx += st.dNdx[k] * vx[a];
+          Lxy += st.dNdy[k] * vx[a];
+          Lyx += st.dNdx[k] * vy[a];
+          Lyy += st.dNdy[k] * vy[a];
+          if (extras) {
+            div_s += st.dNdx[k] * nodes_.vx_solid[a] + st.dNdy[k] * nodes_.vy_solid[a];
+            n_at += N * porosity_[a];
           }
         }
-        // FLIP/PIC blend: v <- flip (v + dt a) + (1 - flip) v_PIC; x <- x + dt v_PIC
-        pts.vx[p] = flip * (pts.vx[p] + dt * apx) + (1.0 - flip) * vpx;
-        pts.vy[p] = flip * (pts.vy[p] + dt * apy) + (1.0 - flip) * vpy;
-        // Applied at the end of the step (move_points): every grid operation of the step uses
-        // the shape functions of the start-of-step configuration.
-        dx[p] = dt * vpx;
-        dy[p] = dt * vpy;
-        if (usl) store_gradient(pts, p, Lxx, Lxy, Lyx, Lyy, extras, div_s, n_at, st.node[0]);
       }
-    }
-  };
-  g2p(solid_, nodes_.vx_solid.data(), nodes_.vy_solid.data(), asx_.data(), asy_.data(), false);
-  if (wet) {
-    g2p(liquid_, nodes_.vx_liquid.data(), nodes_.vy_liquid.data(), alx_.data(), aly_.data(), true);
-  }
-}
-
-template <class G, ShapeKind S>
-void Solver::remap_momentum(const G& grid) {
-  const bool wet = liquid_.size() > 0;
-  const int nn = nn_;
-  const double s = options_.mass_scaling;
-  std::atomic<long> lost_solid{-1}, lost_liquid{-1};
-  scatter(wet ? 6 : 3, [&](double* acc, int t, int T) {
-    auto map = [&](const PointFields& pts, double* m_, double* px_, double* py_,
-                   std::atomic<long>& lost) {
-      const int phase = &pts == static_cast<const PointFields*>(&liquid_) ? 1 : 0;
-      std::size_t b, e;
-      chunk(pts.size(), t, T, b, e);
-      Stencil st{};
-      for (std::size_t p = b; p < e; ++p) {
-        if (!locate<G, S>(grid, phase, p, st)) {
-          lost = static_cast<long>(p);
-          continue;
-        }
-        const double mi = pts.mass[p] * s, mvx = mi * pts.vx[p], mvy = mi * pts.vy[p];
+      // FLIP/PIC blend: v <- flip (v + dt a) + (1 - flip) v_PIC; x <- x + dt v_PIC
+      const double vx_new = flip * (pts.vx[p] + dt * apx) + (1.0 - flip) * vpx;
+      const double vy_new = flip * (pts.vy[p] + dt * apy) + (1.0 - flip) * vpy;
+      pts.vx[p] = vx_new;
+      pts.vy[p] = vy_new;
+      // Applied at the end of the step (move_points): every grid operation of the step uses
+      // the shape functions of the start-of-step configuration.
+      dx[p] = dt * vpx;
+      dy[p] = dt * vpy;
+      if (usl) store_gradient(pts, p, Lxx, Lxy, Lyx, Lyy, extras, div_s, n_at, st.node[0]);
+      if (remap) {  // MUSL: m_a = Σ N m, (m v)_a = Σ N m v_new
+        if (T > 1) span.add<G>(st);
+        const double mi = pts.mass[p] * s, mvx = mi * vx_new, mvy = mi * vy_new;
         for (int k = 0; k < st.count; ++k) {
           const int a = st.node[k];
           m_[a] += st.N[k] * mi;
@@ -704,18 +821,27 @@ void Solver::remap_momentum(const G& grid) {
           py_[a] += st.N[k] * mvy;
         }
       }
-    };
-    map(solid_, acc + R_MS * nn, acc + R_PXS * nn, acc + R_PYS * nn, lost_solid);
-    if (wet) map(liquid_, acc + R_ML * nn, acc + R_PXL * nn, acc + R_PYL * nn, lost_liquid);
-  });
-  if (lost_solid >= 0) lost_point(Phase::solid, lost_solid);
-  if (lost_liquid >= 0) lost_point(Phase::liquid, lost_liquid);
-  cache_[0].valid = cache_[1].valid = true;
-  const double floor = mass_floor_ * s;
+    }
+  };
+  double* none = nullptr;
+  g2p(solid_, nodes_.vx_solid.data(), nodes_.vy_solid.data(), asx_.data(), asy_.data(), false,
+      remap ? acc + R_MS * nn : none, remap ? acc + R_PXS * nn : none,
+      remap ? acc + R_PYS * nn : none);
+  if (wet) {
+    g2p(liquid_, nodes_.vx_liquid.data(), nodes_.vy_liquid.data(), alx_.data(), aly_.data(), true,
+        remap ? acc + R_ML * nn : none, remap ? acc + R_PXL * nn : none,
+        remap ? acc + R_PYL * nn : none);
+  }
+  if (remap) mark_dirty(t, fields, span.begin, span.end);
+}
+
+void Solver::remap_nodes(int begin, int end) {
+  const bool wet = liquid_.size() > 0;
+  const int nn = nn_;
+  const double floor = mass_floor_ * options_.mass_scaling;
   const double* A = acc_.data();
   NodeFields& out = nodes_;
-#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
-  for (int a = 0; a < nn; ++a) {
+  for (int a = begin; a < end; ++a) {
     const double ms = A[R_MS * nn + a];
     out.vx_solid[a] = ms > floor ? A[R_PXS * nn + a] / ms : 0.0;
     out.vy_solid[a] = ms > floor ? A[R_PYS * nn + a] / ms : 0.0;
@@ -725,8 +851,10 @@ void Solver::remap_momentum(const G& grid) {
       out.vy_liquid[a] = ml > floor ? A[R_PYL * nn + a] / ml : 0.0;
     }
   }
-  apply_conditions(Phase::solid, out.vx_solid.data(), out.vy_solid.data());
-  if (wet) apply_conditions(Phase::liquid, out.vx_liquid.data(), out.vy_liquid.data());
+  apply_conditions(Phase::solid, out.vx_solid.data(), out.vy_solid.data(), begin, end);
+  if (wet) {
+    apply_conditions(Phase::liquid, out.vx_liquid.data(), out.vy_liquid.data(), begin, end);
+  }
 }
 
 inline void Solver::store_gradient(PointFields& pts, long p, double Lxx, double Lxy, double Lyx,
@@ -744,44 +872,47 @@ inline void Solver::store_gradient(PointFields& pts, long p, double Lxx, double 
 }
 
 template <class G, ShapeKind S>
-void Solver::velocity_gradients(const G& grid, bool liquid_extras) {
+void Solver::velocity_gradients_part(const G& grid, int t, bool liquid_extras) {
   auto grad = [&](PointFields& pts, const double* vx, const double* vy, bool extras) {
     const int phase = &pts == static_cast<PointFields*>(&liquid_) ? 1 : 0;
-    const long n = static_cast<long>(pts.size());
-#pragma omp parallel num_threads(threads_) if (threads_ > 1)
-    {
-      Stencil st{};
-#pragma omp for schedule(static)
-      for (long p = 0; p < n; ++p) {
-        if (!locate<G, S>(grid, phase, p, st)) continue;
-        double Lxx = 0, Lxy = 0, Lyx = 0, Lyy = 0, div_s = 0, n_at = 0;
-        for (int k = 0; k < st.count; ++k) {
-          const int a = st.node[k];
-          Lxx += st.dNdx[k] * vx[a];
-          Lxy += st.dNdy[k] * vx[a];
-          Lyx += st.dNdx[k] * vy[a];
-          Lyy += st.dNdy[k] * vy[a];
-          if (extras) {
-            div_s += st.dNdx[k] * nodes_.vx_solid[a] + st.dNdy[k] * nodes_.vy_solid[a];
-            n_at += st.N[k] * porosity_[a];
-          }
+    std::size_t b, e;
+    chunk(pts.size(), t, threads_, b, e);
+    Stencil st{};
+    for (std::size_t p = b; p < e; ++p) {
+      if (!locate<G, S>(grid, phase, p, st)) continue;
+      double Lxx = 0, Lxy = 0, Lyx = 0, Lyy = 0, div_s = 0, n_at = 0;
+      for (int k = 0; k < st.count; ++k) {
+        const int a = st.node[k];
+        Lxx += st.dNdx[k] * vx[a];
+        Lxy += st.dNdy[k] * vx[a];
+        Lyx += st.dNdx[k] * vy[a];
+        Lyy += st.dNdy[k] * vy[a];
+        if (extras) {
+          div_s += st.dNdx[k] * nodes_.vx_solid[a] + st.dNdy[k] * nodes_.vy_solid[a];
+          n_at += st.N[k] * porosity_[a];
         }
-        store_gradient(pts, p, Lxx, Lxy, Lyx, Lyy, extras, div_s, n_at, st.node[0]);
       }
+      store_gradient(pts, static_cast<long>(p), Lxx, Lxy, Lyx, Lyy, extras, div_s, n_at,
+                     st.node[0]);
     }
   };
   grad(solid_, nodes_.vx_solid.data(), nodes_.vy_solid.data(), false);
   if (liquid_.size() > 0) {
     grad(liquid_, nodes_.vx_liquid.data(), nodes_.vy_liquid.data(), liquid_extras);
   }
+}
+
+template <class G, ShapeKind S>
+void Solver::velocity_gradients(const G& grid, bool liquid_extras) {
+  if (threads_ == 1) {
+    velocity_gradients_part<G, S>(grid, 0, liquid_extras);
+  } else {
+#pragma omp parallel num_threads(threads_)
+    velocity_gradients_part<G, S>(grid, omp_get_thread_num(), liquid_extras);
+  }
   cache_[0].valid = cache_[1].valid = true;
 }
 
-// Conduction of T among the solid points, seed section 5: T mapped to the nodes weighted by the
-// heat capacity (3/2) m (mass-weighted), nodal forward-Euler rate of
-//   (3/2) ρ_s (1 - n) DT/Dt = ∇·(κ_T ∇T)  (model.md §5, conduction term only),
-// weak form Q_a = -Σ_p V_p κ_T ∇N_a·∇T_p (insulated boundaries), and the nodal increments remapped
-// to the points with the shape functions (mass-averaged remap): Σ m T is conserved exactly.
 template <class G, ShapeKind S>
 void Solver::conduct_temperature(const G& grid) {
   const int nn = nn_;
@@ -857,13 +988,14 @@ void Solver::conduct_temperature(const G& grid) {
 }
 
 void Solver::move_points() {
+#pragma omp parallel num_threads(threads_) if (threads_ > 1)
   for (int phase = 0; phase < 2; ++phase) {
     PointFields& pts =
         phase == 0 ? static_cast<PointFields&>(solid_) : static_cast<PointFields&>(liquid_);
     const long n = static_cast<long>(pts.size());
     const double* dx = displacement_x_[phase].data();
     const double* dy = displacement_y_[phase].data();
-#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
+#pragma omp for schedule(static) nowait
     for (long p = 0; p < n; ++p) {
       pts.x[p] += dx[p];
       pts.y[p] += dy[p];
@@ -881,7 +1013,7 @@ void Solver::refresh_liquid_state() {
   }
 }
 
-void Solver::constitutive_update() {
+void Solver::constitutive_update(bool move) {
   const double dt = dt_;
   // Solid: one call per material over its range, then volume and porosity.
   StressUpdateView view{solid_.Lxx.data(),
@@ -898,71 +1030,32 @@ void Solver::constitutive_update() {
                         options_.material_conductivity ? point_conductivity_.data() : nullptr};
   for (auto& m : materials_) m->update_stress(view, dt);
   const long ns = static_cast<long>(solid_.size());
-  long bad_solid = -1;
-#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1) \
-    reduction(max                                                                 \
-              : bad_solid)
-  for (long p = 0; p < ns; ++p) {
+  const long nl = static_cast<long>(liquid_.size());
+  const double K = liquid_options_.bulk_modulus, rho0 = liquid_options_.density;
+  const bool viscous = liquid_options_.viscosity > 0.0;
+  double* rate = volumetric_rate_.data();
+  // The pore pressure needs the volumetric rate of all liquid points first only when it is
+  // cell-averaged or its mean removed; otherwise each point uses its own, in the same pass.
+  const bool rate_pass = options_.liquid_volumetric_smoothing || options_.closed_domain;
+  // Per point; true when the point holds a non-finite or non-positive value.
+  auto solid_point = [&](long p) {
     // dV/V = tr(D) dt (plane strain); grains incompressible: n = 1 - V_s / V.
     solid_.volume[p] *= 1.0 + dt * (solid_.Lxx[p] + solid_.Lyy[p]);
     solid_.porosity[p] = 1.0 - solid_.solid_volume[p] / solid_.volume[p];
     const double check = solid_.sxx[p] + solid_.syy[p] + solid_.sxy[p] + solid_.vx[p] +
                          solid_.vy[p] + solid_.x[p] + solid_.y[p];
-    if (!std::isfinite(check) || !(solid_.volume[p] > 0.0)) bad_solid = std::max(bad_solid, p);
-  }
-  if (bad_solid >= 0) {
-    const long p = bad_solid;
-    const bool bad_volume = !(solid_.volume[p] > 0);
-    const bool bad_stress = !std::isfinite(solid_.sxx[p] + solid_.syy[p] + solid_.sxy[p]);
-    const char* var = bad_volume ? "volume" : bad_stress ? "stress" : "velocity/position";
-    const double val = bad_volume ? solid_.volume[p] : bad_stress ? solid_.sxx[p] : solid_.vx[p];
-    throw SolverFailure(step_ + 1, fmt::format("solid point {}", p), var, val,
-                        "non-finite or non-positive value");
-  }
-  const long nl = static_cast<long>(liquid_.size());
-  if (nl == 0) return;
-  const double K = liquid_options_.bulk_modulus, rho0 = liquid_options_.density;
-  const bool viscous = liquid_options_.viscosity > 0.0;
+    if (move) {
+      solid_.x[p] += displacement_x_[0][p];
+      solid_.y[p] += displacement_y_[0][p];
+    }
+    return !std::isfinite(check) || !(solid_.volume[p] > 0.0);
+  };
   // Volumetric rate of the mixture seen by the liquid: n tr(D_L) + (1 - n) tr(D_S).
-  double* rate = volumetric_rate_.data();
-#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
-  for (long p = 0; p < nl; ++p) {
+  auto liquid_rate = [&](long p) {
     const double n = liquid_.porosity[p];
     rate[p] = n * (liquid_.Lxx[p] + liquid_.Lyy[p]) + (1.0 - n) * div_solid_[p];
-  }
-  if (options_.liquid_volumetric_smoothing) {
-    // Cell average of the volumetric rate (volume-weighted over the liquid points of each cell,
-    // cells keyed by their first node): removes the checkerboard pressure modes of equal-order
-    // velocity/pressure interpolation (Anura3D's strain smoothing; Mast et al. 2012).
-    const int nn = nn_;
-    scatter(2, [&](double* acc, int t, int T) {
-      std::size_t b, e;
-      chunk(static_cast<std::size_t>(nl), t, T, b, e);
-      for (std::size_t p = b; p < e; ++p) {
-        acc[liquid_cell_[p]] += liquid_.volume[p] * rate[p];
-        acc[nn + liquid_cell_[p]] += liquid_.volume[p];
-      }
-    });
-#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
-    for (long p = 0; p < nl; ++p) rate[p] = acc_[liquid_cell_[p]] / acc_[nn + liquid_cell_[p]];
-  }
-  if (options_.closed_domain) {
-    double rate_volume = 0.0, volume = 0.0;
-#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1) \
-    reduction(+ : rate_volume, volume)
-    for (long p = 0; p < nl; ++p) {
-      rate_volume += liquid_.volume[p] * rate[p];
-      volume += liquid_.volume[p];
-    }
-    const double mean_rate = rate_volume / volume;
-#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
-    for (long p = 0; p < nl; ++p) rate[p] -= mean_rate;
-  }
-  long bad_liquid = -1;
-#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1) \
-    reduction(max                                                                 \
-              : bad_liquid)
-  for (long p = 0; p < nl; ++p) {
+  };
+  auto liquid_point = [&](long p) {
     const double n = liquid_.porosity[p];
     const double tr_l = liquid_.Lxx[p] + liquid_.Lyy[p];
     // Storage equation of the double-point formulation (incompressible grains):
@@ -981,15 +1074,102 @@ void Solver::constitutive_update() {
     liquid_.drag[p] = drag_at(n);
     const double check = liquid_.pressure[p] + liquid_.txy[p] + liquid_.vx[p] + liquid_.vy[p] +
                          liquid_.x[p] + liquid_.y[p];
-    if (!std::isfinite(check)) bad_liquid = std::max(bad_liquid, p);
+    if (move) {
+      liquid_.x[p] += displacement_x_[1][p];
+      liquid_.y[p] += displacement_y_[1][p];
+    }
+    return !std::isfinite(check);
+  };
+  long bad_solid = -1, bad_liquid = -1;
+  // One parallel region for both phases (no barrier between the loops: they share nothing).
+#pragma omp parallel num_threads(threads_) if (threads_ > 1) reduction(max : bad_solid, bad_liquid)
+  {
+#pragma omp for schedule(static) nowait
+    for (long p = 0; p < ns; ++p) {
+      if (solid_point(p)) bad_solid = std::max(bad_solid, p);
+    }
+#pragma omp for schedule(static) nowait
+    for (long p = 0; p < nl; ++p) {
+      liquid_rate(p);
+      if (!rate_pass && liquid_point(p)) bad_liquid = std::max(bad_liquid, p);
+    }
+  }
+  if (nl > 0 && rate_pass) {
+    const int nn = nn_;
+    if (options_.liquid_volumetric_smoothing) {
+      // Cell average of the volumetric rate (volume-weighted over the liquid points of each
+      // cell, cells keyed by their first node): removes the checkerboard pressure modes of
+      // equal-order velocity/pressure interpolation (Anura3D's strain smoothing; Mast et al.
+      // 2012).
+      scatter(2, [&](double* acc, int t, int T) {
+        std::size_t b, e;
+        chunk(static_cast<std::size_t>(nl), t, T, b, e);
+        for (std::size_t p = b; p < e; ++p) {
+          acc[liquid_cell_[p]] += liquid_.volume[p] * rate[p];
+          acc[nn + liquid_cell_[p]] += liquid_.volume[p];
+        }
+      });
+    }
+    auto smooth = [&](long p) {
+      if (options_.liquid_volumetric_smoothing) {
+        rate[p] = acc_[liquid_cell_[p]] / acc_[nn + liquid_cell_[p]];
+      }
+    };
+    double mean_rate = 0.0;
+    if (options_.closed_domain) {
+      // Volume-weighted mean rate: per-thread partial sums over fixed chunks, added in thread
+      // order (reproducible for a thread count, unlike an OpenMP reduction's arrival order).
+      auto partial = [&](int t) {
+        std::size_t b, e;
+        chunk(static_cast<std::size_t>(nl), t, threads_, b, e);
+        double rate_volume = 0.0, volume = 0.0;
+        for (std::size_t p = b; p < e; ++p) {
+          smooth(static_cast<long>(p));
+          rate_volume += liquid_.volume[p] * rate[p];
+          volume += liquid_.volume[p];
+        }
+        slots_[t].sum[0] = rate_volume;
+        slots_[t].sum[1] = volume;
+      };
+      if (threads_ == 1) {
+        partial(0);
+      } else {
+#pragma omp parallel num_threads(threads_)
+        partial(omp_get_thread_num());
+      }
+      double rate_volume = 0.0, volume = 0.0;
+      for (const auto& slot : slots_) {
+        rate_volume += slot.sum[0];
+        volume += slot.sum[1];
+      }
+      mean_rate = rate_volume / volume;
+    }
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1) \
+    reduction(max                                                                 \
+              : bad_liquid)
+    for (long p = 0; p < nl; ++p) {
+      if (options_.closed_domain) {
+        rate[p] -= mean_rate;
+      } else {
+        smooth(p);
+      }
+      if (liquid_point(p)) bad_liquid = std::max(bad_liquid, p);
+    }
+  }
+  if (bad_solid >= 0) {
+    const long p = bad_solid;
+    const bool bad_volume = !(solid_.volume[p] > 0);
+    const bool bad_stress = !std::isfinite(solid_.sxx[p] + solid_.syy[p] + solid_.sxy[p]);
+    const char* var = bad_volume ? "volume" : bad_stress ? "stress" : "velocity/position";
+    const double val = bad_volume ? solid_.volume[p] : bad_stress ? solid_.sxx[p] : solid_.vx[p];
+    throw SolverFailure(step_ + 1, fmt::format("solid point {}", p), var, val,
+                        "non-finite or non-positive value");
   }
   if (bad_liquid >= 0) {
     throw SolverFailure(step_ + 1, fmt::format("liquid point {}", bad_liquid), "pressure",
                         liquid_.pressure[bad_liquid], "non-finite value");
   }
 }
-
-// ---- diagnostics ------------------------------------------------------------------------------
 
 double Solver::total_mass(Phase phase) const {
   const auto& m = phase == Phase::solid ? solid_.mass : liquid_.mass;

@@ -154,24 +154,40 @@ class Solver {
  private:
   template <class G, ShapeKind S>
   void step_impl(const G& grid);
+  // The grid part of a step is one parallel region; each piece below is run by thread t on its
+  // share (points: a fixed contiguous chunk per thread; nodes: a fixed contiguous share), the
+  // pieces separated by barriers (docs/mpm.md, "Threads").
+  template <class G, ShapeKind S>
+  void map_first_part(const G& grid, int t);  // P2G of mass, momentum, forces, porosity, drag
+  template <class G, ShapeKind S>
+  void update_points_part(const G& grid, int t, bool remap);  // G2P (+ P2G of m v for MUSL)
+  template <class G, ShapeKind S>
+  void velocity_gradients_part(const G& grid, int t, bool liquid_extras);
+  void solve_nodes(int begin, int end);  // nodal momentum balance on nodes [begin, end)
+  void remap_nodes(int begin, int end);  // MUSL nodal velocities on nodes [begin, end)
+  // Whole-grid versions (own parallel region) for initialize().
   template <class G, ShapeKind S>
   void map_first(const G& grid);
-  void solve_nodes();
-  template <class G, ShapeKind S>
-  void update_points(const G& grid);
-  template <class G, ShapeKind S>
-  void remap_momentum(const G& grid);
   template <class G, ShapeKind S>
   void velocity_gradients(const G& grid, bool liquid_extras);
   // Store point p's velocity gradient and, for liquid points (`extras`), the solid divergence
   // tr(D_S) and the porosity interpolated there (shared by the USL G2P and velocity_gradients).
   void store_gradient(PointFields& pts, long p, double Lxx, double Lxy, double Lyx, double Lyy,
                       bool extras, double div_s, double n_at, int first_node);
-  void constitutive_update();
+  // Stress, volume, porosity, pore pressure and the finite checks; with `move`, also the
+  // positions (x += Δx of the step) in the same pass.
+  void constitutive_update(bool move);
   template <class G, ShapeKind S>
   void conduct_temperature(const G& grid);
+  // Scatter with per-thread node buffers in its own parallel region (conduction, smoothing).
   template <class Body>
   void scatter(int fields, Body&& body);
+  // Thread t's node accumulator for `fields` fields, all zero: acc_ itself on one thread, else
+  // its buffer in scratch_ (only the span it dirtied last time is cleared).
+  double* scatter_buffer(int t, int fields);
+  void mark_dirty(int t, int fields, int begin, int end);
+  // acc_ on thread t's share of the nodes = the per-thread buffers summed in thread order.
+  void reduce_part(int fields, int t);
   // The stencil of point p of a phase (0 solid, 1 liquid) at the start of the step; on the polar
   // grid (an atan2 and a Newton solve per location) located once per step, then cached.
   template <class G, ShapeKind S>
@@ -179,9 +195,10 @@ class Solver {
   void solve_porosity_only();
   void refresh_liquid_state();
   void move_points();                    // x += Δx of the step, at its end
+  void throw_if_lost() const;            // a point that the last map found outside the grid
   double viscosity_at(double nu) const;  // η(ν)
   double drag_at(double n) const;        // β(n)
-  void apply_conditions(Phase phase, double* vx, double* vy) const;
+  void apply_conditions(Phase phase, double* vx, double* vy, int begin, int end) const;
   TimeStepLimits compute_limits() const;
   void update_dt();
   double node_angle(int n) const;
@@ -223,6 +240,13 @@ class Solver {
   int threads_ = 1;
   std::vector<double> acc_;      // reduced nodal accumulators, field-major
   std::vector<double> scratch_;  // per-thread accumulators (threads > 1)
+  // Per-thread bookkeeping of the parallel step, one cache line each (no false sharing).
+  struct alignas(64) ThreadSlot {
+    int dirty_fields = 0, dirty_begin = 0, dirty_end = 0;  // non-zero part of its buffer
+    long lost[2] = {-1, -1};  // first point of its chunk, per phase, found outside the grid
+    double sum[2] = {0, 0};   // partial sums of a reduction over its chunk
+  };
+  std::vector<ThreadSlot> slots_;
   // nodal solution
   std::vector<double> asx_, asy_, alx_, aly_, porosity_;
   std::vector<double> div_solid_;  // tr(D_S) at the liquid points
