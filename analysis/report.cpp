@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <set>
@@ -14,6 +15,7 @@
 
 #include "core/result_file.hpp"
 #include "core/run.hpp"
+#include "dem_coupling/kind/dem_fits_file.hpp"
 
 namespace granflow::analysis {
 
@@ -114,6 +116,52 @@ void pair_section(std::ostream& md, const core::Summary& s) {
   md << "\n";
 }
 
+// kind: dem (sweeps): re-derive the fits from result.h5 without rerunning LIGGGHTS
+// (dem_coupling/kind/dem_fits.hpp): rewrite /fits in result.h5, the fit.* and boyer.* keys of
+// summary.json, redraw the plots (plot_dem.py), and return the Markdown tables.
+std::string dem_section(const std::filesystem::path& run_dir, core::Summary& s) {
+  const auto result = run_dir / "result.h5";
+  if (!std::filesystem::exists(result)) return "";
+  const dem::DemSteadyTable table = dem::read_dem_steady_table(result);
+  if (table.rows() < 2) return "";  // a single condition: nothing to fit
+  const dem::DemFits fits = dem::compute_dem_fits(table);
+  {
+    dem::AppendedResultFile file(result);
+    file.remove("/fits");
+    dem::write_dem_fits(fits, table, file);
+    if (fits.wet && std::isfinite(fits.mixed.alpha()))
+      file.attribute("/steady", "fitted_alpha", fits.mixed.alpha());
+  }
+  // Old keys are kept except boyer.* (rewritten); a run made before the free mixed-number fit
+  // had the one-parameter Boyer-in-K α as fit.alpha: it becomes fit.alpha_boyer*.
+  std::map<std::string, double> kept;
+  for (const auto& [key, value] : s.values())
+    if (key.rfind("boyer.", 0) != 0) kept[key] = value;
+  if (fits.wet && kept.count("fit.alpha_rms")) {
+    kept["fit.alpha_boyer"] = kept["fit.alpha"];
+    kept["fit.alpha_boyer_rms"] = kept["fit.alpha_rms"];
+    kept["fit.alpha_boyer_chi2_per_dof"] = kept["fit.alpha_chi2_per_dof"];
+    kept.erase("fit.alpha_rms");
+    kept.erase("fit.alpha_chi2_per_dof");
+  }
+  core::Summary updated;
+  for (const auto& [key, value] : kept) updated.set(key, value);
+  for (const auto& [key, value] : dem::dem_fit_summary(fits, table)) updated.set(key, value);
+  updated.write(run_dir / "summary.json");
+  s = updated;
+  const std::string command =
+      fmt::format("'{}' '{}' '{}' > '{}' 2>&1", core::python_interpreter(),
+                  (core::source_dir() / "analysis" / "plots" / "plot_dem.py").string(),
+                  run_dir.string(), (run_dir / "plot_dem.log").string());
+  const int status = std::system(command.c_str());
+  std::string md = dem::dem_fits_markdown(fits, table);
+  if (status != 0)
+    md += fmt::format("**Note:** plot_dem.py failed (exit {}); see plot_dem.log.\n\n", status);
+  return md +
+         "The fits above were re-derived from result.h5 by `granflow report` (written to "
+         "/fits of result.h5 and to summary.json).\n\n";
+}
+
 }  // namespace
 
 std::filesystem::path write_report(const std::filesystem::path& run_dir) {
@@ -122,7 +170,7 @@ std::filesystem::path write_report(const std::filesystem::path& run_dir) {
     throw std::runtime_error(
         fmt::format("{}: no summary.json; expected the directory of a finished granflow run",
                     run_dir.string()));
-  const core::Summary s = core::Summary::read(summary_file);
+  core::Summary s = core::Summary::read(summary_file);
   const auto case_file = run_dir / "case.yaml";
   const std::string kind = case_value(case_file, "kind");
   std::string name = case_value(case_file, "name");
@@ -138,6 +186,7 @@ std::filesystem::path write_report(const std::filesystem::path& run_dir) {
   if (!description.empty()) md << description << "\n\n";
   if (kind == "calibrate") calibrate_section(md, s);
   if (kind == "pair") pair_section(md, s);
+  if (kind == "dem") md << dem_section(run_dir, s);
 
   std::vector<std::filesystem::path> pngs;
   for (const auto& entry : std::filesystem::directory_iterator(run_dir))

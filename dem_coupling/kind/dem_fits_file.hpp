@@ -1,0 +1,168 @@
+// Re-deriving the fits of an existing DEM run (`granflow report RUN_DIR`, analysis/report.cpp):
+// read the steady table of result.h5 (schema v1, docs/dem_dataset.md) and rewrite its /fits group.
+// Runs written before τ_contact/σ_yy was tabulated get it from /conditions/N/series (tau_contact,
+// tau_lub, sigma_yy) over the steady part recorded in /conditions/N/steady (start_strain).
+// Header-only (see weighted_least_squares.hpp).
+#pragma once
+
+#include <H5Cpp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "dem_coupling/kind/dem_fits.hpp"
+
+namespace granflow::dem {
+
+namespace fits_file_detail {
+
+inline std::vector<double> read(H5::H5File& f, const std::string& path) {
+  H5::DataSet set = f.openDataSet(path);
+  std::vector<double> v(set.getSpace().getSimpleExtentNpoints());
+  if (!v.empty()) set.read(v.data(), H5::PredType::NATIVE_DOUBLE);
+  return v;
+}
+
+inline bool path_exists(H5::H5File& f, const std::string& path) {
+  // Every component must exist for H5Lexists on the next one.
+  std::size_t pos = 1;
+  while (true) {
+    const auto slash = path.find('/', pos);
+    const std::string prefix = path.substr(0, slash);
+    if (H5Lexists(f.getId(), prefix.c_str(), H5P_DEFAULT) <= 0) return false;
+    if (slash == std::string::npos) return true;
+    pos = slash + 1;
+  }
+}
+
+inline double number_attribute(H5::H5Object& object, const std::string& name) {
+  double v = std::numeric_limits<double>::quiet_NaN();
+  if (object.attrExists(name)) object.openAttribute(name).read(H5::PredType::NATIVE_DOUBLE, &v);
+  return v;
+}
+
+}  // namespace fits_file_detail
+
+// Throws std::runtime_error naming the file and the missing dataset when it is not a DEM dataset.
+inline DemSteadyTable read_dem_steady_table(const std::filesystem::path& file) {
+  using namespace fits_file_detail;
+  H5::Exception::dontPrint();
+  H5::H5File f(file.string(), H5F_ACC_RDONLY);
+  auto column = [&](const std::string& name) {
+    const std::string path = "/steady/" + name;
+    if (!path_exists(f, path))
+      throw std::runtime_error(
+          fmt::format("{}: no dataset {} (expected a DEM result.h5, schema "
+                      "v1, docs/dem_dataset.md)",
+                      file.string(), path));
+    return read(f, path);
+  };
+  DemSteadyTable t;
+  t.particle_friction = column("particle_friction");
+  t.inertial = column("inertial_number");
+  t.inertial_err = column("inertial_number_err");
+  t.friction = column("friction");
+  t.friction_err = column("friction_err");
+  t.solid_fraction = column("solid_fraction");
+  t.solid_fraction_err = column("solid_fraction_err");
+  t.wet = path_exists(f, "/steady/viscous_number");
+  if (!t.wet) return t;
+  t.stokes = column("stokes_number");
+  t.viscous = column("viscous_number");
+  t.viscous_err = column("viscous_number_err");
+  if (path_exists(f, "/steady/friction_contact")) {
+    t.friction_contact = column("friction_contact");
+    t.friction_contact_err = column("friction_contact_err");
+    t.friction_lubrication = column("friction_lubrication");
+    t.friction_lubrication_err = column("friction_lubrication_err");
+    return t;
+  }
+  // Older runs: from the series, over the recorded steady part.
+  for (std::size_t n = 0; n < t.rows(); ++n) {
+    StressRatio contact, lub;
+    const std::string g = fmt::format("/conditions/{}", n);
+    if (std::isfinite(t.friction[n]) && path_exists(f, g + "/series/tau_contact") &&
+        path_exists(f, g + "/steady")) {
+      H5::Group steady = f.openGroup(g + "/steady");
+      const double start_strain = number_attribute(steady, "start_strain");
+      const auto strain = read(f, g + "/series/strain");
+      const auto sigma = read(f, g + "/series/sigma_yy");
+      const std::size_t start = static_cast<std::size_t>(
+          std::lower_bound(strain.begin(), strain.end(), start_strain - 1e-12) - strain.begin());
+      contact = stress_ratio_of_series(read(f, g + "/series/tau_contact"), sigma, start);
+      lub = stress_ratio_of_series(read(f, g + "/series/tau_lub"), sigma, start);
+    }
+    t.friction_contact.push_back(contact.value);
+    t.friction_contact_err.push_back(contact.error);
+    t.friction_lubrication.push_back(lub.value);
+    t.friction_lubrication_err.push_back(lub.error);
+  }
+  return t;
+}
+
+// A result.h5 opened for appending (/fits rewritten): the two calls of write_dem_fits' sink.
+class AppendedResultFile {
+ public:
+  explicit AppendedResultFile(const std::filesystem::path& file)
+      : file_((H5::Exception::dontPrint(), H5::H5File(file.string(), H5F_ACC_RDWR))) {}
+  ~AppendedResultFile() {
+    try {
+      file_.flush(H5F_SCOPE_GLOBAL);
+      file_.close();
+    } catch (...) {
+    }
+  }
+  void remove(const std::string& path) {
+    if (fits_file_detail::path_exists(file_, path))
+      H5Ldelete(file_.getId(), path.c_str(), H5P_DEFAULT);
+  }
+  void attribute(const std::string& group, const std::string& name, double value) {
+    H5::Group g = ensure(group);
+    if (g.attrExists(name)) g.removeAttr(name);
+    g.createAttribute(name, H5::PredType::NATIVE_DOUBLE, H5::DataSpace(H5S_SCALAR))
+        .write(H5::PredType::NATIVE_DOUBLE, &value);
+  }
+  void attribute(const std::string& group, const std::string& name, const std::string& value) {
+    H5::Group g = ensure(group);
+    if (g.attrExists(name)) g.removeAttr(name);
+    H5::StrType type(H5::PredType::C_S1, std::max<std::size_t>(value.size(), 1));
+    g.createAttribute(name, type, H5::DataSpace(H5S_SCALAR)).write(type, value);
+  }
+  void write(const std::string& path, const std::vector<double>& values, const std::string& unit,
+             const std::string& description) {
+    const auto slash = path.rfind('/');
+    H5::Group g = ensure(path.substr(0, slash));
+    const std::string leaf = path.substr(slash + 1);
+    if (g.nameExists(leaf)) g.unlink(leaf);
+    const hsize_t dims[1] = {values.size()};
+    H5::DataSet set = g.createDataSet(leaf, H5::PredType::NATIVE_DOUBLE, H5::DataSpace(1, dims));
+    if (!values.empty()) set.write(values.data(), H5::PredType::NATIVE_DOUBLE);
+    for (const auto& [key, text] :
+         {std::pair{"unit", unit}, std::pair{"description", description}}) {
+      H5::StrType type(H5::PredType::C_S1, std::max<std::size_t>(text.size(), 1));
+      set.createAttribute(key, type, H5::DataSpace(H5S_SCALAR)).write(type, text);
+    }
+  }
+
+ private:
+  H5::Group ensure(const std::string& path) {
+    std::string sofar;
+    std::size_t pos = 1;
+    while (pos <= path.size()) {
+      const auto slash = path.find('/', pos);
+      sofar = path.substr(0, slash);
+      if (!fits_file_detail::path_exists(file_, sofar)) file_.createGroup(sofar);
+      if (slash == std::string::npos) break;
+      pos = slash + 1;
+    }
+    return file_.openGroup(path);
+  }
+  H5::H5File file_;
+};
+
+}  // namespace granflow::dem

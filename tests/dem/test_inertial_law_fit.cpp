@@ -1,0 +1,252 @@
+// The rheology fits of DEM sweeps (dem_coupling/kind/): weighted least squares, μ(I) and φ(I)
+// (issue 4), the free mixed-number law μ(K) with α and Boyer's contact/hydrodynamic split
+// (issue 5). Synthetic data with known parameters and Gaussian noise of known σ.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "dem_coupling/kind/dem_fits.hpp"
+#include "dem_coupling/kind/inertial_law_fit.hpp"
+#include "dem_coupling/kind/mixed_number_law_fit.hpp"
+#include "dem_coupling/kind/weighted_least_squares.hpp"
+
+namespace {
+
+using namespace granflow::dem;
+
+// The dry sweep's inertial numbers (cases/dem/dry_sweep.yaml) plus two.
+const std::vector<double> sweep_inertial = {0.01, 0.02, 0.05, 0.1, 0.2, 0.3, 0.03, 0.15};
+
+TEST(DemWeightedLeastSquares, StraightLineByLevenbergMarquardtEqualsTheClosedForm) {
+  // φ(I) = φ_c − a I: the closed form (Numerical Recipes §15.2) and the general LM fit of the
+  // same linear model minimise the same quadratic χ²; estimates and (Jᵀ W J)⁻¹ standard errors
+  // agree to the LM tolerance (1e-12 relative steps) and the 1e-5 finite-difference Jacobian
+  // (exact for a linear model up to round-off): 1e-7 relative.
+  const std::vector<double> phi = {0.585, 0.581, 0.574, 0.561, 0.535, 0.512, 0.579, 0.548};
+  const std::vector<double> err = {0.0004, 0.0006, 0.0005, 0.0008, 0.001, 0.0012, 0.0005, 0.0009};
+  const LineFit line = weighted_line(sweep_inertial, phi, err);
+  Eigen::VectorXd start(2);
+  start << 0.5, 0.0;
+  const LeastSquaresFit lm = weighted_least_squares(
+      [&](std::size_t i, const Eigen::VectorXd& t) { return t[0] + t[1] * sweep_inertial[i]; }, phi,
+      err, start);
+  ASSERT_TRUE(lm.converged);
+  EXPECT_NEAR(lm.estimate[0], line.intercept, 1e-7 * std::abs(line.intercept));
+  EXPECT_NEAR(lm.estimate[1], line.slope, 1e-7 * std::abs(line.slope));
+  EXPECT_NEAR(lm.standard_error[0], line.intercept_err, 1e-7 * line.intercept_err);
+  EXPECT_NEAR(lm.standard_error[1], line.slope_err, 1e-7 * line.slope_err);
+  EXPECT_NEAR(lm.covariance(0, 1), line.covariance, 1e-7 * std::abs(line.covariance));
+  EXPECT_NEAR(lm.chi2, line.chi2, 1e-7 * line.chi2);
+  EXPECT_EQ(line.dof, 6);
+  // Unweighted check of the closed form itself on three collinear points: exact line, χ² = 0.
+  const LineFit exact = weighted_line({0.0, 1.0, 2.0}, {1.0, 0.5, 0.0}, {1.0, 1.0, 1.0});
+  EXPECT_NEAR(exact.intercept, 1.0, 1e-15);
+  EXPECT_NEAR(exact.slope, -0.5, 1e-15);
+  EXPECT_NEAR(exact.chi2, 0.0, 1e-28);
+  // var(intercept) = S_xx/Δ = 5/(3·5 − 9) = 5/6, var(slope) = S/Δ = 3/6.
+  EXPECT_NEAR(exact.intercept_err, std::sqrt(5.0 / 6.0), 1e-15);
+  EXPECT_NEAR(exact.slope_err, std::sqrt(0.5), 1e-15);
+}
+
+TEST(DemInertialLawFit, ExactDataGiveTheParametersBack) {
+  const double mu_s = 0.36, mu_2 = 0.66, i_0 = 0.25, phi_c = 0.587, a = 0.25;
+  std::vector<double> mu, mue, phi, phie;
+  for (double I : sweep_inertial) {
+    mu.push_back(inertial_friction_law(I, mu_s, mu_2, i_0));
+    mue.push_back(0.005);
+    phi.push_back(phi_c - a * I);
+    phie.push_back(0.001);
+  }
+  const InertialLawFit f = fit_inertial_law(0.5, sweep_inertial, mu, mue, phi, phie);
+  // Noise-free data: the LM minimum is χ² = 0 to its tolerances; 1e-6 relative is far above them.
+  EXPECT_NEAR(f.mu_s(), mu_s, 1e-6);
+  EXPECT_NEAR(f.mu_2(), mu_2, 1e-6);
+  EXPECT_NEAR(f.i_0(), i_0, 1e-6);
+  EXPECT_NEAR(f.phi_c(), phi_c, 1e-12);
+  EXPECT_NEAR(f.a(), a, 1e-10);
+  EXPECT_LT(f.mu.chi2, 1e-12);
+  EXPECT_EQ(f.mu.dof, 5);
+  EXPECT_EQ(friction_label(0.5), "mu_p_0p5");
+  EXPECT_EQ(friction_label(0.0), "frictionless");
+}
+
+TEST(DemInertialLawFit, NoisyDataRecoverTheParametersWithin2StandardErrors) {
+  // 400 synthetic sweeps with Gaussian noise of the stated σ (μ: 0.006, φ: 0.0008, the sizes of
+  // the DEM error bars): each parameter must lie within 2 SE of the truth in about 95 % of them
+  // (Gaussian coverage of a nearly linear model). Binomial spread of a 95 % rate over 400 trials
+  // is 1.1 %, and the μ(I) law is non-linear in I_0: accept 90-99 %. The mean χ²_red is 1 with a
+  // spread sqrt(2/dof/400) = 0.03 (μ, 5 dof) and 0.029 (φ, 6 dof): accept ±0.15.
+  const double truth_mu[] = {0.37, 0.64, 0.28};
+  const double phi_c = 0.587, a = 0.26;
+  std::mt19937 rng(20261122);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  int inside_mu[3] = {0, 0, 0}, inside_phi[2] = {0, 0};
+  double chi2_mu = 0, chi2_phi = 0;
+  const int trials = 400;
+  for (int trial = 0; trial < trials; ++trial) {
+    std::vector<double> mu, mue, phi, phie;
+    for (double I : sweep_inertial) {
+      mu.push_back(inertial_friction_law(I, truth_mu[0], truth_mu[1], truth_mu[2]) +
+                   0.006 * gauss(rng));
+      mue.push_back(0.006);
+      phi.push_back(phi_c - a * I + 0.0008 * gauss(rng));
+      phie.push_back(0.0008);
+    }
+    const InertialLawFit f = fit_inertial_law(0.5, sweep_inertial, mu, mue, phi, phie);
+    ASSERT_TRUE(f.mu.identifiable) << trial;
+    for (int j = 0; j < 3; ++j)
+      inside_mu[j] += std::abs(f.mu.estimate[j] - truth_mu[j]) <= 2 * f.mu.standard_error[j];
+    inside_phi[0] += std::abs(f.phi_c() - phi_c) <= 2 * f.phi_c_err();
+    inside_phi[1] += std::abs(f.a() - a) <= 2 * f.a_err();
+    chi2_mu += f.mu.chi2_red / trials;
+    chi2_phi += f.phi.chi2_red / trials;
+  }
+  for (int j = 0; j < 3; ++j) {
+    EXPECT_GE(inside_mu[j], 0.90 * trials) << "μ parameter " << j;
+    EXPECT_LE(inside_mu[j], 0.99 * trials) << "μ parameter " << j;
+  }
+  for (int j = 0; j < 2; ++j) {
+    EXPECT_GE(inside_phi[j], 0.90 * trials) << "φ parameter " << j;
+    EXPECT_LE(inside_phi[j], 0.99 * trials) << "φ parameter " << j;
+  }
+  EXPECT_NEAR(chi2_mu, 1.0, 0.15);
+  EXPECT_NEAR(chi2_phi, 1.0, 0.15);
+}
+
+TEST(DemInertialLawFit, FailedPointsAreSkippedAndGroupsSplitByFriction) {
+  // A sweep table with two frictions and one failed (NaN) row: one fit per μ_p, the NaN row left
+  // out, and the frictional group compared with Chialvo et al.'s published values.
+  DemSteadyTable t;
+  for (double mp : {0.5, 0.0})
+    for (double I : {0.01, 0.02, 0.05, 0.1, 0.2, 0.3}) {
+      const double mu_s = mp > 0 ? 0.37 : 0.10, mu_2 = mp > 0 ? 0.64 : 0.30;
+      t.particle_friction.push_back(mp);
+      t.inertial.push_back(I);
+      t.inertial_err.push_back(0.001 * I);
+      t.friction.push_back(inertial_friction_law(I, mu_s, mu_2, 0.3));
+      t.friction_err.push_back(0.005);
+      t.solid_fraction.push_back((mp > 0 ? 0.587 : 0.639) - 0.2 * I);
+      t.solid_fraction_err.push_back(0.001);
+    }
+  t.friction[3] = NAN;  // failed condition: μ_p = 0.5, I = 0.1
+  const DemFits f = compute_dem_fits(t);
+  ASSERT_EQ(f.dry.size(), 2u);
+  // std::set order: 0 first.
+  EXPECT_EQ(f.dry[0].particle_friction, 0.0);
+  EXPECT_EQ(f.dry[0].inertial.size(), 6u);
+  EXPECT_EQ(f.dry[1].inertial.size(), 5u);
+  EXPECT_NEAR(f.dry[1].mu_s(), 0.37, 1e-6);  // exact data (tolerance as above)
+  EXPECT_NEAR(f.dry[0].phi_c(), 0.639, 1e-10);
+  const auto summary = dem_fit_summary(f, t);
+  EXPECT_NEAR(summary.at("fit.mu_p_0p5.mu_s"), 0.37, 1e-6);
+  EXPECT_EQ(summary.at("fit.frictionless.points"), 6);
+  ASSERT_TRUE(published_dem_law(0.5).has_value());
+  EXPECT_EQ(published_dem_law(0.5)->phi_c, 0.587);
+  EXPECT_FALSE(published_dem_law(0.3).has_value());
+}
+
+// 12 conditions as cases/dem/wet_sweep.yaml: I = 0.1 and 0.05, St = 0.1 ... 100, J = I²/St.
+struct WetSweep {
+  std::vector<double> j, i, mu, mue, phi, phie;
+};
+WetSweep synthetic_wet_sweep(const double law[4], double phi_m, double b, double noise_mu,
+                             double noise_phi, std::mt19937* rng) {
+  WetSweep w;
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  for (double I : {0.1, 0.05})
+    for (double st : {0.1, 0.32, 1.0, 3.2, 10.0, 100.0}) {
+      const double j = I * I / st, k = j + law[3] * I * I;
+      w.j.push_back(j);
+      w.i.push_back(I);
+      w.mu.push_back(mixed_number_friction_law(k, law[0], law[1], law[2]) +
+                     (rng ? noise_mu * gauss(*rng) : 0.0));
+      w.mue.push_back(noise_mu);
+      w.phi.push_back(mixed_number_solid_fraction_law(k, phi_m, b) +
+                      (rng ? noise_phi * gauss(*rng) : 0.0));
+      w.phie.push_back(noise_phi);
+    }
+  return w;
+}
+
+TEST(DemMixedNumberLawFit, ExactDataGiveMu1Mu2K0AndAlphaBack) {
+  const double law[4] = {0.38, 0.95, 0.02, 0.6};
+  const WetSweep w = synthetic_wet_sweep(law, 0.585, 1.0, 0.01, 0.001, nullptr);
+  const MixedNumberLawFit f = fit_mixed_number_law(w.j, w.i, w.mu, w.mue, w.phi, w.phie);
+  ASSERT_EQ(f.viscous.size(), 12u);
+  // Noise-free data: the minimum is χ² = 0; 1e-5 relative is far above the LM tolerances.
+  for (int j = 0; j < 4; ++j) EXPECT_NEAR(f.value(j), law[j], 1e-5 * law[j]) << j;
+  ASSERT_EQ(f.phi.estimate.size(), 2);
+  EXPECT_NEAR(f.phi.estimate[0], 0.585, 1e-6);
+  EXPECT_NEAR(f.phi.estimate[1], 1.0, 1e-5);
+  EXPECT_EQ(f.mu.dof, 8);
+}
+
+TEST(DemMixedNumberLawFit, NoisyDataRecoverAlphaWithin2StandardErrors) {
+  // 200 synthetic wet sweeps, μ noise 0.01 (the DEM error bars of the viscous points): α and μ_1
+  // within 2 SE in about 95 % of them. Binomial spread over 200 trials is 1.5 %; the law is
+  // non-linear in α and K_0: accept 88-99 %.
+  const double law[4] = {0.38, 0.95, 0.02, 0.6};
+  std::mt19937 rng(5);
+  int inside_alpha = 0, inside_mu_1 = 0;
+  const int trials = 200;
+  for (int trial = 0; trial < trials; ++trial) {
+    const WetSweep w = synthetic_wet_sweep(law, 0.585, 1.0, 0.01, 0.001, &rng);
+    const MixedNumberLawFit f = fit_mixed_number_law(w.j, w.i, w.mu, w.mue, w.phi, w.phie);
+    ASSERT_TRUE(f.mu.identifiable) << trial;
+    inside_alpha += std::abs(f.alpha() - law[3]) <= 2 * f.alpha_err();
+    inside_mu_1 += std::abs(f.value(0) - law[0]) <= 2 * f.error(0);
+  }
+  EXPECT_GE(inside_alpha, 0.88 * trials);
+  EXPECT_LE(inside_alpha, 0.99 * trials);
+  EXPECT_GE(inside_mu_1, 0.88 * trials);
+  EXPECT_LE(inside_mu_1, 0.99 * trials);
+}
+
+TEST(DemBoyerSplit, ContactPartOnBoyersLawHasZeroResidualAndTheLubricationShareIsItsRatio) {
+  // A wet table whose τ_contact/σ_yy is exactly μ_c(J) and whose τ_lub/σ_yy is half of μ_h(J):
+  // residuals 0, Σ res²/n = 0 over the St <= 1 points, lubrication share 0.5.
+  DemSteadyTable t;
+  t.wet = true;
+  for (double st : {0.1, 0.32, 1.0, 3.2, 10.0, 100.0}) {
+    const double I = 0.1, j = I * I / st;
+    t.particle_friction.push_back(0.5);
+    t.inertial.push_back(I);
+    t.inertial_err.push_back(1e-4);
+    t.stokes.push_back(st);
+    t.viscous.push_back(j);
+    t.viscous_err.push_back(0.0);
+    t.friction_contact.push_back(boyer2011::contact_friction(j));
+    t.friction_contact_err.push_back(0.01);
+    t.friction_lubrication.push_back(0.5 * boyer2011::hydrodynamic_friction(j));
+    t.friction_lubrication_err.push_back(0.001);
+    t.friction.push_back(t.friction_contact.back() + t.friction_lubrication.back());
+    t.friction_err.push_back(0.01);
+    t.solid_fraction.push_back(boyer2011::solid_fraction(j));
+    t.solid_fraction_err.push_back(0.001);
+  }
+  const DemFits f = compute_dem_fits(t);
+  EXPECT_EQ(f.split.viscous_points, 3);  // St = 0.1, 0.32, 1
+  EXPECT_NEAR(f.split.contact_chi2_per_point, 0.0, 1e-20);
+  EXPECT_NEAR(f.split.lubrication_share_of_hydrodynamic, 0.5, 1e-14);
+  // Boyer's law at J0: μ_c = μ1 + (μ2 − μ1)/2 (closed form).
+  EXPECT_NEAR(boyer2011::contact_friction(0.005), 0.32 + 0.19, 1e-15);
+  const auto summary = dem_fit_summary(f, t);
+  EXPECT_NEAR(summary.at("boyer.mu_c.0"), boyer2011::contact_friction(0.1), 1e-15);
+  EXPECT_NEAR(summary.at("boyer.contact_residual.2"), 0.0, 1e-12);
+}
+
+TEST(DemStressRatio, RatioOfMeansAndDeltaMethodError) {
+  // part = 0.4 σ exactly per sample: ratio 0.4, residual part − 0.4 σ ≡ 0, so zero error.
+  std::vector<double> sigma, part;
+  for (int i = 0; i < 400; ++i) {
+    sigma.push_back(100.0 + 10.0 * std::sin(0.1 * i));
+    part.push_back(0.4 * sigma.back());
+  }
+  const StressRatio r = stress_ratio_of_series(part, sigma, 100);
+  EXPECT_NEAR(r.value, 0.4, 1e-14);
+  EXPECT_NEAR(r.error, 0.0, 1e-14);
+}
+
+}  // namespace
