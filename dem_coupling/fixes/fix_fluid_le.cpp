@@ -66,8 +66,20 @@ class FixFluidLE : public LAMMPS_NS::Fix {
   std::array<double, vec::size> global_{};  // reduced over ranks
   LAMMPS_NS::bigint last_reduce_ = -1;
   bool report_time_scales_ = true;
-  std::vector<int> pair_i_, pair_j_;  // this step's pairs within h_max (grow-only buffers)  // set
-                                      // by init(), cleared by the first setup() after it
+  // This step's pairs within h_max (grow-only buffers, structure of arrays, sized by the list):
+  // pairs with an owned j at [0, owned), pairs with a ghost j at [capacity - ghost, capacity).
+  struct LubricatedPairs {
+    std::vector<int> i, j;
+    std::vector<double> inverse_distance, normal, tangential, log_argument;
+    void grow(std::size_t entries) {
+      if (entries <= i.size()) return;
+      const std::size_t n = entries + entries / 2;  // grows with the list, not in steady state
+      for (auto* a : {&i, &j}) a->resize(n);
+      for (auto* a : {&inverse_distance, &normal, &tangential, &log_argument}) a->resize(n);
+    }
+  };
+  LubricatedPairs pairs_;
+  void lubrication_forces(std::array<double, fluid_le_vector::size>& acc);
 };
 
 bool FixFluidLE::parse_yes_no(const char* keyword, const char* value) const {
@@ -307,23 +319,32 @@ void FixFluidLE::post_force(int /*vflag*/) {
     // (tests/dem_fluid/test_dem_fluid_time_step.cpp checks the proportionality for each option).
     const double drag_per_diameter =
         settings_.drag ? model::particle_drag_coefficient(settings_.liquid, 1.0, nu) : 0.0;
+    // Flat, non-aliased views and local sums (the force writes cannot alias them).
+    const double* __restrict xf = x[0];
+    const double* __restrict vf = v[0];
+    const double* __restrict wf = omega[0];
+    double* __restrict ff = f[0];
+    double* __restrict tf = torque[0];
+    const double origin[3] = {lo[0], lo[1], lo[2]};
+    const bool drag = settings_.drag, rotation = settings_.rotational_drag;
+    const double rotational_per_diameter_cubed = pi * eta;
+    double drag_dissipation = 0.0, rotational_dissipation = 0.0;
     for (int i = 0; i < nlocal; ++i) {
       if (!(mask[i] & groupbit)) continue;
       const double d = 2.0 * radius[i];
-      const double dx[3] = {x[i][0] - lo[0], x[i][1] - lo[1], x[i][2] - lo[2]};
-      if (settings_.drag) {
+      if (drag) {
+        const double dx[3] = {xf[3 * i] - origin[0], xf[3 * i + 1] - origin[1],
+                              xf[3 * i + 2] - origin[2]};
         const double c = drag_per_diameter * d;
         double F[3];
-        double dissipation = 0.0;
         for (int a = 0; a < 3; ++a) {
           const double u =
               flow.L[a][0] * dx[0] + flow.L[a][1] * dx[1] + flow.L[a][2] * dx[2] + flow.rate_lo[a];
-          const double w = v[i][a] - u;
+          const double w = vf[3 * i + a] - u;
           F[a] = -c * w;
-          f[i][a] += F[a];
-          dissipation += c * w * w;
+          ff[3 * i + a] += F[a];
+          drag_dissipation -= F[a] * w;  // c |v - u|²
         }
-        acc[vec::drag_dissipation] += dissipation;
         w_drag[0] += dx[0] * F[0];
         w_drag[1] += dx[1] * F[1];
         w_drag[2] += dx[2] * F[2];
@@ -331,135 +352,21 @@ void FixFluidLE::post_force(int /*vflag*/) {
         w_drag[4] += dx[0] * F[2];
         w_drag[5] += dx[1] * F[2];
       }
-      if (settings_.rotational_drag) {
-        const double cr = pi * eta * d * d * d;
-        double dissipation = 0.0;
+      if (rotation) {
+        const double cr = rotational_per_diameter_cubed * d * d * d;
         for (int a = 0; a < 3; ++a) {
-          const double w = omega[i][a] - flow.spin[a];
-          torque[i][a] -= cr * w;
-          dissipation += cr * w * w;
+          const double w = wf[3 * i + a] - flow.spin[a];
+          tf[3 * i + a] -= cr * w;
+          rotational_dissipation += cr * w * w;
         }
-        acc[vec::rotational_dissipation] += dissipation;
       }
     }
+    acc[vec::drag_dissipation] = drag_dissipation;
+    acc[vec::rotational_dissipation] = rotational_dissipation;
   }
 
-  // (b) pairwise lubrication on the granular half list (newton off: a pair with an owned j is
-  // listed once and updates both; a pair with a ghost j is listed by both owners, so each applies
-  // its own half and counts the pair's virial and dissipation with weight 1/2).
-  if (settings_.lubrication && atom->nlocal + atom->nghost > 0) {
-    const LAMMPS_NS::NeighList* list = force->pair->list;
-    const int inum = list->inum;
-    const int* ilist = list->ilist;
-    const int* numneigh = list->numneigh;
-    int** firstneigh = list->firstneigh;
-    const double h_max = settings_.maximum_gap, h_min = settings_.minimum_gap;
-    const bool tangential = settings_.tangential_lubrication;
-    // Local accumulators (registers; the force arrays cannot alias them).
-    double wn[6] = {0, 0, 0, 0, 0, 0}, wt[6] = {0, 0, 0, 0, 0, 0};
-    double pair_count = 0.0, pair_dissipation = 0.0;
-    // Flat views of the per-atom arrays (LAMMPS allocates each as one contiguous block), so a
-    // neighbour costs one load per quantity instead of a pointer chase.
-    const double* xf = x[0];
-    const double* vf = v[0];
-    const double* wf = omega[0];
-    double* ff = f[0];
-    double* tf = torque[0];
-    const bool whole_system = groupbit == 1;  // group all: every atom (and ghost) is in it
-    // Pass 1: the listed pairs within h_max (most listed pairs are not), compacted without a
-    // data-dependent branch; pass 2 then runs the sqrt/div/log of the pairs back to back.
-    std::size_t candidates = 0;
-    for (int ii = 0; ii < inum; ++ii) {
-      const int i = ilist[ii];
-      if (!(mask[i] & groupbit)) continue;
-      const int count = numneigh[i];
-      if (candidates + count > pair_i_.size()) {  // grows with the list, not in steady state
-        pair_i_.resize(2 * (candidates + count));
-        pair_j_.resize(2 * (candidates + count));
-      }
-      const double ri_reach = radius[i] + h_max;
-      const double xi[3] = {xf[3 * i], xf[3 * i + 1], xf[3 * i + 2]};
-      const int* jlist = firstneigh[i];
-      int* out_i = pair_i_.data();
-      int* out_j = pair_j_.data();
-      for (int jj = 0; jj < count; ++jj) {
-        const int j = jlist[jj] & NEIGHMASK;
-        const double del[3] = {xi[0] - xf[3 * j], xi[1] - xf[3 * j + 1], xi[2] - xf[3 * j + 2]};
-        const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
-        const double reach = ri_reach + radius[j];
-        out_i[candidates] = i;
-        out_j[candidates] = j;
-        const bool in_group = whole_system || (mask[j] & groupbit);
-        candidates += (rsq < reach * reach) & in_group;
-      }
-    }
-    // Pass 2: the forces of the lubricated pairs.
-    for (std::size_t p = 0; p < candidates; ++p) {
-      const int i = pair_i_[p], j = pair_j_[p];
-      const double ri = radius[i], rj = radius[j];
-      const double del[3] = {xf[3 * i] - xf[3 * j], xf[3 * i + 1] - xf[3 * j + 1],
-                             xf[3 * i + 2] - xf[3 * j + 2]};
-      const double r = std::sqrt(del[0] * del[0] + del[1] * del[1] + del[2] * del[2]);
-      const double h = r - ri - rj;
-      const double inverse_r = 1.0 / r;
-      const double n[3] = {del[0] * inverse_r, del[1] * inverse_r,
-                           del[2] * inverse_r};  // from j to i
-      // Ghost velocities carry the Lees-Edwards shift (fix deform remap v).
-      const double dv[3] = {vf[3 * i] - vf[3 * j], vf[3 * i + 1] - vf[3 * j + 1],
-                            vf[3 * i + 2] - vf[3 * j + 2]};
-      const double vn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2];
-      const PairLubrication resistance = pair_lubrication(eta, ri, rj, h, h_min, tangential);
-      const double cn = resistance.normal;
-      const double Fn[3] = {-cn * vn * n[0], -cn * vn * n[1], -cn * vn * n[2]};
-      double Ft[3] = {0.0, 0.0, 0.0};
-      double dissipation = cn * vn * vn;
-      const bool j_owned = j < nlocal;
-      if (tangential) {
-        // relative surface velocity at the gap: v_ij - (r_i ω_i + r_j ω_j) × n
-        const double s[3] = {ri * wf[3 * i] + rj * wf[3 * j],
-                             ri * wf[3 * i + 1] + rj * wf[3 * j + 1],
-                             ri * wf[3 * i + 2] + rj * wf[3 * j + 2]};
-        const double vs[3] = {dv[0] - (s[1] * n[2] - s[2] * n[1]),
-                              dv[1] - (s[2] * n[0] - s[0] * n[2]),
-                              dv[2] - (s[0] * n[1] - s[1] * n[0])};
-        const double vsn = vs[0] * n[0] + vs[1] * n[1] + vs[2] * n[2];
-        const double vt[3] = {vs[0] - vsn * n[0], vs[1] - vsn * n[1], vs[2] - vsn * n[2]};
-        const double ct = resistance.tangential;
-        for (int a = 0; a < 3; ++a) Ft[a] = -ct * vt[a];
-        dissipation += ct * (vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
-        // torque of F_t at the surface point -r_i n of i (and +r_j n with -F_t on j)
-        const double nxF[3] = {n[1] * Ft[2] - n[2] * Ft[1], n[2] * Ft[0] - n[0] * Ft[2],
-                               n[0] * Ft[1] - n[1] * Ft[0]};
-        for (int a = 0; a < 3; ++a) tf[3 * i + a] -= ri * nxF[a];
-        if (j_owned)
-          for (int a = 0; a < 3; ++a) tf[3 * j + a] -= rj * nxF[a];
-      }
-      for (int a = 0; a < 3; ++a) ff[3 * i + a] += Fn[a] + Ft[a];
-      if (j_owned)
-        for (int a = 0; a < 3; ++a) ff[3 * j + a] -= Fn[a] + Ft[a];
-      const double weight = j_owned ? 1.0 : 0.5;
-      wn[0] += weight * del[0] * Fn[0];
-      wn[1] += weight * del[1] * Fn[1];
-      wn[2] += weight * del[2] * Fn[2];
-      wn[3] += weight * del[0] * Fn[1];
-      wn[4] += weight * del[0] * Fn[2];
-      wn[5] += weight * del[1] * Fn[2];
-      wt[0] += weight * del[0] * Ft[0];
-      wt[1] += weight * del[1] * Ft[1];
-      wt[2] += weight * del[2] * Ft[2];
-      wt[3] += weight * del[0] * Ft[1];
-      wt[4] += weight * del[0] * Ft[2];
-      wt[5] += weight * del[1] * Ft[2];
-      pair_count += weight;
-      pair_dissipation += weight * dissipation;
-    }
-    for (int k = 0; k < 6; ++k) {
-      acc[vec::lubrication_normal + k] = wn[k];
-      acc[vec::lubrication_tangential + k] = wt[k];
-    }
-    acc[vec::lubricated_pairs] = pair_count;
-    acc[vec::lubrication_dissipation] = pair_dissipation;
-  }
+  // (b) pairwise lubrication on the granular half list.
+  if (settings_.lubrication && atom->nlocal + atom->nghost > 0) lubrication_forces(acc);
 
   for (int k = 0; k < 6; ++k) {
     acc[vec::drag + k] = w_drag[k];
@@ -471,6 +378,167 @@ void FixFluidLE::post_force(int /*vflag*/) {
   acc[vec::shear_rate] = flow.L[0][1];
   local_ = acc;
   last_reduce_ = -1;  // new forces: reduce again on the next request
+}
+
+// Normal and tangential lubrication of the pairs within h_max, on the granular half list
+// (newton off: a pair with an owned j is listed once and updates both; a pair with a ghost j is
+// listed by both owners, so each applies its own half and counts the pair's virial and
+// dissipation with weight 1/2). Four passes over flat arrays, so that each is a short loop of
+// independent iterations (no long sqrt -> division -> log -> force dependency chain per pair):
+//   1. select the listed pairs within h_max, compacted without a data-dependent branch, owned j
+//      from the front of the buffers and ghost j from the back;
+//   2. geometry and resistances (pair_lubrication_terms: one sqrt and one division per pair);
+//   3. the log(1/ξ) of the tangential mode, all pairs back to back;
+//   4. forces, torques, virials and dissipation from the velocities.
+void FixFluidLE::lubrication_forces(std::array<double, vec::size>& acc) {
+  const LAMMPS_NS::NeighList* list = force->pair->list;
+  const int inum = list->inum;
+  const int* ilist = list->ilist;
+  const int* numneigh = list->numneigh;
+  int** firstneigh = list->firstneigh;
+  const int* mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  const double eta = settings_.liquid.viscosity;
+  const double h_max = settings_.maximum_gap, h_min = settings_.minimum_gap;
+  const bool tangential = settings_.tangential_lubrication;
+  // Flat views of the per-atom arrays (LAMMPS allocates each as one contiguous block), so a
+  // neighbour costs one load per quantity instead of a pointer chase.
+  const double* __restrict radius = atom->radius;
+  const double* __restrict xf = atom->x[0];
+  const double* __restrict vf = atom->v[0];
+  const double* __restrict wf = atom->omega[0];
+  double* __restrict ff = atom->f[0];
+  double* __restrict tf = atom->torque[0];
+  const bool whole_system = groupbit == 1;  // group all: every atom (and ghost) is in it
+
+  std::size_t entries = 0;
+  for (int ii = 0; ii < inum; ++ii) entries += numneigh[ilist[ii]];
+  pairs_.grow(entries);
+  const std::size_t top = pairs_.i.size();
+  int* __restrict pair_i = pairs_.i.data();
+  int* __restrict pair_j = pairs_.j.data();
+  double* __restrict inverse_distance = pairs_.inverse_distance.data();
+  double* __restrict normal = pairs_.normal.data();
+  double* __restrict tangential_resistance = pairs_.tangential.data();
+  double* __restrict log_argument = pairs_.log_argument.data();
+
+  // Pass 1. Both slots are written every iteration and the right counter advances; owned +
+  // ghost stays below the entries seen, so the two ends never overwrite a kept pair.
+  std::size_t owned = 0, ghost = 0;
+  for (int ii = 0; ii < inum; ++ii) {
+    const int i = ilist[ii];
+    if (!(mask[i] & groupbit)) continue;
+    const double ri_reach = radius[i] + h_max;
+    const double xi[3] = {xf[3 * i], xf[3 * i + 1], xf[3 * i + 2]};
+    const int* jlist = firstneigh[i];
+    const int count = numneigh[i];
+    for (int jj = 0; jj < count; ++jj) {
+      const int j = jlist[jj] & NEIGHMASK;
+      const double del[3] = {xi[0] - xf[3 * j], xi[1] - xf[3 * j + 1], xi[2] - xf[3 * j + 2]};
+      const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
+      const double reach = ri_reach + radius[j];
+      const bool lubricated = (rsq < reach * reach) & (whole_system || (mask[j] & groupbit));
+      const bool j_owned = j < nlocal;
+      pair_i[owned] = i;
+      pair_j[owned] = j;
+      pair_i[top - 1 - ghost] = i;
+      pair_j[top - 1 - ghost] = j;
+      owned += lubricated & j_owned;
+      ghost += lubricated & !j_owned;
+    }
+  }
+  const std::size_t ranges[2][2] = {{0, owned}, {top - ghost, top}};
+
+  // Pass 2.
+  for (const auto& range : ranges)
+    for (std::size_t p = range[0]; p < range[1]; ++p) {
+      const int i = pair_i[p], j = pair_j[p];
+      const double del[3] = {xf[3 * i] - xf[3 * j], xf[3 * i + 1] - xf[3 * j + 1],
+                             xf[3 * i + 2] - xf[3 * j + 2]};
+      const double r = std::sqrt(del[0] * del[0] + del[1] * del[1] + del[2] * del[2]);
+      const PairLubricationTerms t = pair_lubrication_terms(eta, radius[i], radius[j], r, h_min);
+      inverse_distance[p] = t.inverse_distance;
+      normal[p] = t.normal;
+      tangential_resistance[p] = t.tangential_prefactor;
+      log_argument[p] = t.log_argument;
+    }
+
+  // Pass 3: c_t = prefactor × ln(1/ξ).
+  if (tangential)
+    for (const auto& range : ranges)
+      for (std::size_t p = range[0]; p < range[1]; ++p)
+        tangential_resistance[p] *= std::log(log_argument[p]);
+
+  // Pass 4, once for the owned-j pairs (weight 1, j updated) and once for the ghost-j pairs
+  // (weight 1/2, j left to its owner). Sums in registers, weighted at the end.
+  double wn[2][6] = {}, wt[2][6] = {}, dissipation[2] = {0.0, 0.0};
+  for (int kind = 0; kind < 2; ++kind) {
+    const bool j_owned = kind == 0;
+    double sn[6] = {0, 0, 0, 0, 0, 0}, st[6] = {0, 0, 0, 0, 0, 0}, pair_dissipation = 0.0;
+    for (std::size_t p = ranges[kind][0]; p < ranges[kind][1]; ++p) {
+      const int i = pair_i[p], j = pair_j[p];
+      const double del[3] = {xf[3 * i] - xf[3 * j], xf[3 * i + 1] - xf[3 * j + 1],
+                             xf[3 * i + 2] - xf[3 * j + 2]};
+      const double inverse_r = inverse_distance[p];
+      const double n[3] = {del[0] * inverse_r, del[1] * inverse_r,
+                           del[2] * inverse_r};  // from j to i
+      // Ghost velocities carry the Lees-Edwards shift (fix deform remap v).
+      const double dv[3] = {vf[3 * i] - vf[3 * j], vf[3 * i + 1] - vf[3 * j + 1],
+                            vf[3 * i + 2] - vf[3 * j + 2]};
+      const double vn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2];
+      const double fn = -normal[p] * vn;  // F_n = -c_n v_n n
+      const double Fn[3] = {fn * n[0], fn * n[1], fn * n[2]};
+      double F[3] = {Fn[0], Fn[1], Fn[2]};
+      pair_dissipation -= fn * vn;  // c_n v_n²
+      sn[0] += del[0] * Fn[0];
+      sn[1] += del[1] * Fn[1];
+      sn[2] += del[2] * Fn[2];
+      sn[3] += del[0] * Fn[1];
+      sn[4] += del[0] * Fn[2];
+      sn[5] += del[1] * Fn[2];
+      if (tangential) {
+        const double ri = radius[i], rj = radius[j];
+        // tangential part of the relative surface velocity at the gap,
+        // v_t = v_ij - (r_i ω_i + r_j ω_j) × n - v_n n (the cross product is normal to n)
+        const double s[3] = {ri * wf[3 * i] + rj * wf[3 * j],
+                             ri * wf[3 * i + 1] + rj * wf[3 * j + 1],
+                             ri * wf[3 * i + 2] + rj * wf[3 * j + 2]};
+        const double vt[3] = {dv[0] - vn * n[0] - (s[1] * n[2] - s[2] * n[1]),
+                              dv[1] - vn * n[1] - (s[2] * n[0] - s[0] * n[2]),
+                              dv[2] - vn * n[2] - (s[0] * n[1] - s[1] * n[0])};
+        const double ct = tangential_resistance[p];
+        const double Ft[3] = {-ct * vt[0], -ct * vt[1], -ct * vt[2]};
+        pair_dissipation -= Ft[0] * vt[0] + Ft[1] * vt[1] + Ft[2] * vt[2];  // c_t |v_t|²
+        st[0] += del[0] * Ft[0];
+        st[1] += del[1] * Ft[1];
+        st[2] += del[2] * Ft[2];
+        st[3] += del[0] * Ft[1];
+        st[4] += del[0] * Ft[2];
+        st[5] += del[1] * Ft[2];
+        for (int a = 0; a < 3; ++a) F[a] += Ft[a];
+        // torque of F_t at the surface point -r_i n of i (and +r_j n with -F_t on j)
+        const double nxF[3] = {n[1] * Ft[2] - n[2] * Ft[1], n[2] * Ft[0] - n[0] * Ft[2],
+                               n[0] * Ft[1] - n[1] * Ft[0]};
+        for (int a = 0; a < 3; ++a) tf[3 * i + a] -= ri * nxF[a];
+        if (j_owned)
+          for (int a = 0; a < 3; ++a) tf[3 * j + a] -= rj * nxF[a];
+      }
+      for (int a = 0; a < 3; ++a) ff[3 * i + a] += F[a];
+      if (j_owned)
+        for (int a = 0; a < 3; ++a) ff[3 * j + a] -= F[a];
+    }
+    for (int k = 0; k < 6; ++k) {
+      wn[kind][k] = sn[k];
+      wt[kind][k] = st[k];
+    }
+    dissipation[kind] = pair_dissipation;
+  }
+  for (int k = 0; k < 6; ++k) {
+    acc[vec::lubrication_normal + k] = wn[0][k] + 0.5 * wn[1][k];
+    acc[vec::lubrication_tangential + k] = wt[0][k] + 0.5 * wt[1][k];
+  }
+  acc[vec::lubricated_pairs] = double(owned) + 0.5 * double(ghost);
+  acc[vec::lubrication_dissipation] = dissipation[0] + 0.5 * dissipation[1];
 }
 
 double FixFluidLE::compute_vector(int n) {

@@ -52,9 +52,10 @@ inline double tangential_lubrication_resistance(double viscosity, double radius_
          tangential_lubrication_size_factor(radius_i, radius_j) * std::log(1.0 / xi);
 }
 
-// Both resistances of one pair at once, for the pair loop: three divisions and one log instead
-// of the six divisions of the two functions above (same formulas; the size factor is written
-// as (2 r_i² + r_i r_j + 2 r_j²)/(r_i + r_j)², equal to (2 + β + 2β²)/(1 + β)²).
+// Both resistances of one pair at once (reference form of the pair loop's evaluation below):
+// three divisions and one log instead of the six divisions of the two functions above (same
+// formulas; the size factor is written as (2 r_i² + r_i r_j + 2 r_j²)/(r_i + r_j)², equal to
+// (2 + β + 2β²)/(1 + β)²).
 struct PairLubrication {
   double normal;      // c_n, N s/m
   double tangential;  // c_t, N s/m (0 when not requested)
@@ -75,6 +76,38 @@ inline PairLubrication pair_lubrication(double viscosity, double radius_i, doubl
     c.tangential = six_pi_eta_a * (4.0 / 15.0) * size_factor * std::log(0.5 * sum * inverse_gap);
   }
   return c;
+}
+
+// The pair loop's evaluation (fix fluid/le), from the centre distance r instead of the gap, with
+// the log left to the caller so that a loop can run the logs of all pairs back to back:
+//   g = max(r - r_i - r_j, h_min),  a = r_i r_j / (r_i + r_j),
+//   c_n = 6π η a² / g,
+//   c_t = tangential_prefactor × ln(log_argument),
+//   tangential_prefactor = 6π η a (4/15) (2 - 3 a / (r_i + r_j)),   log_argument = (r_i + r_j) /
+//   (2g)
+// (the size factor (2 r_i² + r_i r_j + 2 r_j²)/(r_i + r_j)² = 2 - 3 r_i r_j/(r_i + r_j)²). One
+// division q = 1/(r (r_i + r_j) g) gives 1/r, 1/(r_i + r_j) and 1/g by multiplications. Needs
+// r > 0 (the unit normal is (x_i - x_j)/r). Same values as pair_lubrication to round-off
+// (tests/dem_fluid/test_dem_fluid_time_step.cpp).
+struct PairLubricationTerms {
+  double inverse_distance;      // 1/r, 1/m
+  double normal;                // c_n, N s/m
+  double tangential_prefactor;  // c_t / ln(log_argument), N s/m
+  double log_argument;          // (r_i + r_j) / (2 max(h, h_min)) = 1/ξ
+};
+
+inline PairLubricationTerms pair_lubrication_terms(double viscosity, double radius_i,
+                                                   double radius_j, double distance,
+                                                   double minimum_gap) {
+  const double sum = radius_i + radius_j;
+  const double gap = std::max(distance - sum, minimum_gap);
+  const double q = 1.0 / (distance * sum * gap);
+  const double inverse_sum = q * distance * gap;
+  const double inverse_gap = q * distance * sum;
+  const double a = radius_i * radius_j * inverse_sum;
+  const double six_pi_eta_a = 6.0 * std::numbers::pi * viscosity * a;
+  return {q * sum * gap, six_pi_eta_a * a * inverse_gap,
+          six_pi_eta_a * (4.0 / 15.0) * (2.0 - 3.0 * a * inverse_sum), 0.5 * sum * inverse_gap};
 }
 
 }  // namespace granflow::dem

@@ -2,7 +2,9 @@
 // lubrication resistances (lubrication.hpp).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 
@@ -158,6 +160,35 @@ TEST(DemFluidTimeStep, StableStepAndRefusalNameTheLimit) {
   t = fluid_time_scales(in);
   EXPECT_EQ(check_fluid_time_step(1e3, t), "");
   EXPECT_TRUE(std::isinf(stable_fluid_time_step(t).dt));
+}
+
+TEST(DemFluidTimeStep, PairLoopTermsEqualTheReferenceResistances) {
+  // The fix's pair loop (pair_lubrication_terms: one division for 1/r, 1/(r_i + r_j), 1/g and the
+  // size factor as 2 - 3a/(r_i + r_j)) against the reference pair_lubrication, over unequal
+  // radii, gaps below h_min, inside (h_min, h_max) and overlaps (h < 0). Both are the same
+  // formula rounded differently; the gap r - r_i - r_j itself is known to a few ulp of r, i.e. to
+  // 4 ε r / max(h, h_min) relative (2e-12 for r = 2 mm, h = 1 µm), plus 1e-14 for the rest.
+  const double eta = 0.01, h_min = 1e-6;
+  const double radii[][2] = {{4.5e-4, 4.5e-4}, {4.5e-4, 5.5e-4}, {1e-4, 3e-4}, {2e-3, 1e-4}};
+  const double gaps[] = {-2e-6, 0.0, 5e-7, 1e-6, 3e-6, 2e-5, 4.9e-5};
+  for (const auto& r : radii)
+    for (const double h : gaps) {
+      const double distance = r[0] + r[1] + h;
+      const PairLubricationTerms t = pair_lubrication_terms(eta, r[0], r[1], distance, h_min);
+      const PairLubrication ref =
+          pair_lubrication(eta, r[0], r[1], distance - r[0] - r[1], h_min, true);
+      const double tolerance =
+          1e-14 + 4.0 * std::numeric_limits<double>::epsilon() * distance / std::max(h, h_min);
+      EXPECT_NEAR(t.inverse_distance * distance, 1.0, 1e-15);
+      EXPECT_NEAR(t.normal / ref.normal, 1.0, tolerance) << r[0] << " " << r[1] << " " << h;
+      EXPECT_NEAR(t.tangential_prefactor * std::log(t.log_argument) / ref.tangential, 1.0,
+                  tolerance)
+          << r[0] << " " << r[1] << " " << h;
+      // symmetric in i, j (action-reaction)
+      const PairLubricationTerms s = pair_lubrication_terms(eta, r[1], r[0], distance, h_min);
+      EXPECT_NEAR(s.normal / t.normal, 1.0, 1e-15);
+      EXPECT_NEAR(s.tangential_prefactor / t.tangential_prefactor, 1.0, 1e-15);
+    }
 }
 
 }  // namespace
