@@ -12,6 +12,7 @@
 
 #include "analysis/steady_state.hpp"
 #include "continuum/multi_regime/model_sections.hpp"
+#include "dem_coupling/kind/dem_fits.hpp"
 #include "dem_coupling/kind/launch.hpp"
 #include "dem_coupling/kind/mixed_number_fit.hpp"
 #include "dem_coupling/kind/series_table.hpp"
@@ -381,6 +382,13 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
       v[part] = s_part.mean;
       v[std::string(part) + "_err"] = s_part.error;
     }
+    // Stress ratios of the parts, for Boyer's μ_c(J) and μ_h(J) (kind/dem_fits.hpp).
+    const StressRatio contact = stress_ratio_of_series(t.at("tau_contact"), sigma, start);
+    const StressRatio lub = stress_ratio_of_series(t.at("tau_lub"), sigma, start);
+    v["mu_contact"] = contact.value;
+    v["mu_contact_err"] = contact.error;
+    v["mu_lub"] = lub.value;
+    v["mu_lub_err"] = lub.error;
   }
   for (const auto& [name, value] : v) out.attribute(group + "/steady", name, value);
   return r;
@@ -523,6 +531,10 @@ int run_shear(core::RunContext& ctx) {
       {"tau_drag_err", "shear_stress_drag_err", "Pa", "standard error"},
       {"tau_kin", "shear_stress_kinetic", "Pa", "kinetic part of τ"},
       {"tau_kin_err", "shear_stress_kinetic_err", "Pa", "standard error"},
+      {"mu_contact", "friction_contact", "1", "τ_contact/σ_yy (ratio of the steady means)"},
+      {"mu_contact_err", "friction_contact_err", "1", "standard error (delta method)"},
+      {"mu_lub", "friction_lubrication", "1", "τ_lub/σ_yy (ratio of the steady means)"},
+      {"mu_lub_err", "friction_lubrication_err", "1", "standard error (delta method)"},
   };
   bool any_wet = false;
   for (const core::Case& c : conditions) any_wet = any_wet || c.boolean("liquid.enabled");
@@ -571,34 +583,89 @@ int run_shear(core::RunContext& ctx) {
     }
   }
   if (sweep) ctx.summary.set("sweep.count", double(conditions.size()));
+  // A failed condition (LIGGGHTS error, or too few samples) has no steady values: its /steady row
+  // is NaN and summary.json flags it (sweep.failed.N = 1, sweep.failed_points); the exit code of
+  // a LIGGGHTS failure is non-zero.
+  auto get = [&](const PointResult& r, const char* key) {
+    const auto it = r.values.find(key);
+    return it == r.values.end() ? nan : it->second;
+  };
+  double failed = 0;
+  for (std::size_t n = 0; n < results.size(); ++n)
+    if (results[n].values.empty()) {
+      ++failed;
+      if (sweep) ctx.summary.set(fmt::format("sweep.failed.{}", n), 1.0);
+    }
+  if (sweep) ctx.summary.set("sweep.failed_points", failed);
+  if (sweep) {
+    // μ(I), φ(I) per μ_p (dry) or the mixed-number law and Boyer's split (wet): /fits and fit.*
+    // (kind/dem_fits.hpp; `granflow report` re-derives the same from result.h5).
+    DemSteadyTable table;
+    table.wet = any_wet;
+    table.particle_friction = friction_p;
+    for (const auto& r : results) {
+      table.inertial.push_back(get(r, "I"));
+      table.inertial_err.push_back(get(r, "I_err"));
+      table.friction.push_back(get(r, "mu"));
+      table.friction_err.push_back(get(r, "mu_err"));
+      table.solid_fraction.push_back(get(r, "phi"));
+      table.solid_fraction_err.push_back(get(r, "phi_err"));
+      if (!any_wet) continue;
+      table.stokes.push_back(get(r, "St"));
+      table.viscous.push_back(get(r, "J"));
+      table.viscous_err.push_back(get(r, "J_err"));
+      table.friction_contact.push_back(get(r, "mu_contact"));
+      table.friction_contact_err.push_back(get(r, "mu_contact_err"));
+      table.friction_lubrication.push_back(get(r, "mu_lub"));
+      table.friction_lubrication_err.push_back(get(r, "mu_lub_err"));
+    }
+    const DemFits fits = compute_dem_fits(table);
+    write_dem_fits(fits, table, out);
+    for (const auto& [key, value] : dem_fit_summary(fits, table)) ctx.summary.set(key, value);
+    for (const InertialLawFit& d : fits.dry)
+      ctx.log->info(
+          "μ_p = {:g}: μ(I) fit μ_s = {:.4f} ± {:.4f}, μ_2 = {:.4f} ± {:.4f}, I_0 = {:.4g} ± "
+          "{:.2g} (χ²_red {:.3g}); φ(I) fit φ_c = {:.4f} ± {:.4f}, a = {:.4g} ± {:.2g} (χ²_red "
+          "{:.3g}); {} points",
+          d.particle_friction, d.mu_s(), d.mu_s_err(), d.mu_2(), d.mu_2_err(), d.i_0(), d.i_0_err(),
+          d.mu.chi2_red, d.phi_c(), d.phi_c_err(), d.a(), d.a_err(), d.phi.chi2_red,
+          d.inertial.size());
+    if (any_wet) {
+      const MixedNumberLawFit& m = fits.mixed;
+      ctx.log->info(
+          "μ(K), K = J + α I²: α = {:.4g} ± {:.2g}, μ_1 = {:.4f} ± {:.4f}, μ_2 = {:.4f} ± {:.4f}, "
+          "K_0 = {:.4g} ± {:.2g} (χ²_red {:.3g}, {} points); viscous points: τ_contact/σ_yy − "
+          "Boyer μ_c(J): Σ res²/n = {:.3g}, τ_lub/σ_yy = {:.2f} μ_h(J) on average",
+          m.alpha(), m.alpha_err(), m.value(0), m.error(0), m.value(1), m.error(1), m.value(2),
+          m.error(2), m.mu.chi2_red, m.viscous.size(), fits.split.contact_chi2_per_point,
+          fits.split.lubrication_share_of_hydrodynamic);
+      if (std::isfinite(m.alpha())) out.attribute("/steady", "fitted_alpha", m.alpha());
+    }
+    out.flush();
+  }
   if (sweep && any_wet) {
-    // α of K = J + α I² that collapses μ on Boyer's law in K (kind/mixed_number_fit.hpp).
+    // For comparison: the one-parameter α on Boyer's law in K (kind/mixed_number_fit.hpp), biased
+    // when the DEM's viscous constants differ from Boyer's (docs/dem_dataset.md).
     std::vector<double> j, i, mu, mu_err;
     for (const auto& r : results) {
-      auto get = [&](const char* key) {
-        const auto it = r.values.find(key);
-        return it == r.values.end() ? nan : it->second;
-      };
-      j.push_back(get("J"));
-      i.push_back(get("I"));
-      mu.push_back(get("mu"));
-      mu_err.push_back(get("mu_err"));
+      j.push_back(get(r, "J"));
+      i.push_back(get(r, "I"));
+      mu.push_back(get(r, "mu"));
+      mu_err.push_back(get(r, "mu_err"));
     }
     const MixedNumberFit fit = fit_trulsson_alpha(j, i, mu, mu_err);
     if (fit.points >= 2) {
-      ctx.summary.set("fit.alpha", fit.alpha);
-      ctx.summary.set("fit.alpha_rms", fit.rms);
-      ctx.summary.set("fit.alpha_chi2_per_dof", fit.chi2_per_dof);
+      ctx.summary.set("fit.alpha_boyer", fit.alpha);
+      ctx.summary.set("fit.alpha_boyer_rms", fit.rms);
+      ctx.summary.set("fit.alpha_boyer_chi2_per_dof", fit.chi2_per_dof);
       ctx.summary.set("fit.alpha_points", fit.points);
-      out.attribute("/steady", "fitted_alpha", fit.alpha);
-      out.flush();
       ctx.log->info(
-          "K = J + α I²: α = {:.4g} collapses μ on Boyer's μ(K) (RMS {:.3g}, χ²/dof {:.3g}, {} "
-          "points)",
+          "K = J + α I² on Boyer's law in K (only α free): α = {:.4g} (RMS {:.3g}, χ²/dof {:.3g}, "
+          "{} points)",
           fit.alpha, fit.rms, fit.chi2_per_dof, fit.points);
     }
   }
-  if (code == core::exit_ok) ctx.plot("plot_dem.py");
+  if (code == core::exit_ok || failed < double(results.size())) ctx.plot("plot_dem.py");
   return code;
 }
 
