@@ -172,4 +172,39 @@ TEST(DemCli, LiggghtsErrorIsSurfacedWithExitCode4AndTheRunDirectoryIsKept) {
   EXPECT_TRUE(std::filesystem::exists(dir / "run" / "summary.json"));
 }
 
+TEST(DemCli, SweepContinuesAfterAFailedPointAndFlagsIt) {
+  // Issue 4: a two-point sweep whose first point fails in LIGGGHTS (a wrapper breaks the deck of
+  // point_0 only). The second point still runs; the failed row of /steady is NaN, the other is
+  // finite; summary.json flags the failure (sweep.failed.0, sweep.failed_points) and has no
+  // steady.*.0 keys; the exit code is 4 (external program failed).
+  const auto dir = fresh_directory("cli_sweep_failed_point");
+  std::ofstream(dir / "case.yaml") << small_case << "sweep:\n  shear_rate: [50, 60]\n";
+  const auto wrapper = dir / "break-point-0.sh";
+  std::ofstream(wrapper) << fmt::format(
+      "#!/bin/sh\ncase \"$(pwd)\" in */point_0) echo 'fix broken all no/such/fix/style' >> "
+      "in.granflow;; esac\nexec '{}' \"$@\"\n",
+      GRANFLOW_DEM_DRIVER_PATH);
+  std::filesystem::permissions(wrapper, std::filesystem::perms::owner_all);
+  EXPECT_EQ(run_cli("run case.yaml --out run", dir, wrapper), granflow::core::exit_external)
+      << read(dir / "cli.txt");
+  const auto run = dir / "run";
+  const auto mu = granflow::core::read_dataset(run / "result.h5", "/steady/friction");
+  ASSERT_EQ(mu.size(), 2u);
+  EXPECT_TRUE(std::isnan(mu[0]));
+  EXPECT_TRUE(std::isfinite(mu[1]));
+  EXPECT_TRUE(
+      std::isnan(granflow::core::read_dataset(run / "result.h5", "/steady/solid_fraction")[0]));
+  const auto summary = granflow::core::Summary::read(run / "summary.json");
+  EXPECT_EQ(summary.get("sweep.count"), 2);
+  EXPECT_EQ(summary.get("sweep.failed_points"), 1);
+  EXPECT_EQ(summary.get("sweep.failed.0"), 1);
+  EXPECT_FALSE(summary.contains("sweep.failed.1"));
+  EXPECT_FALSE(summary.contains("steady.mu.0"));
+  EXPECT_TRUE(summary.contains("steady.mu.1"));
+  // The failed point's LIGGGHTS message is in the log, and point 1's samples are in result.h5.
+  EXPECT_NE(read(run / "log.txt").find("no/such/fix/style"), std::string::npos);
+  EXPECT_GT(granflow::core::read_dataset(run / "result.h5", "/conditions/1/series/mu").size(),
+            100u);
+}
+
 }  // namespace
