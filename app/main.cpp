@@ -2,7 +2,10 @@
 //   granflow run CASE.yaml [--out DIR] [--set key.path=value]... [--force]
 //   granflow check CASE.yaml [--set ...]
 //   granflow schema [--markdown]
+// Under `mpirun -np N granflow run CASE.yaml` the conditions of a sweep are distributed over the
+// N ranks (core/sweep_scheduler.hpp, docs/parallel-runs.md); rank 0 writes the run directory.
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -15,6 +18,7 @@
 #include "app/registry.hpp"
 #include "core/case.hpp"
 #include "core/run.hpp"
+#include "core/sweep_scheduler.hpp"
 
 namespace fs = std::filesystem;
 using namespace granflow;
@@ -54,9 +58,41 @@ std::string schema_reference(const core::KindRegistry& registry) {
   return text;
 }
 
+// Kinds whose run function hands its conditions to core::run_conditions, so that the ranks of
+// an mpirun share them. Under mpirun the other kinds run on rank 0 alone.
+bool distributes_conditions(const core::KindEntry& entry) {
+  return (entry.kind == "rev" && entry.test == "simple_shear") || entry.kind == "dem" ||
+         entry.kind == "pair";
+}
+
+// A rank > 0 of `mpirun granflow run`: the kind's run function in a scratch context of its own
+// (nothing there is kept), where core::run_conditions computes the conditions rank 0 hands out.
+int serve_run(const core::KindEntry& entry, const core::Case& c, int rank) {
+  const fs::path scratch =
+      fs::temp_directory_path() / fmt::format("granflow-rank{}-{}", rank, ::getpid());
+  int code = core::exit_ok;
+  try {
+    core::RunContext context(c, scratch, true, true);
+    code = entry.run(context);
+  } catch (const std::exception& e) {
+    std::cerr << fmt::format("error: rank {}: {}\n", rank, e.what());
+    code = core::exit_failure;
+  }
+  std::error_code ignored;
+  fs::remove_all(scratch, ignored);
+  return code;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::optional<core::MpiRanks> ranks;
+  try {
+    ranks.emplace(argc, argv);  // MPI only when started by mpirun
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return core::exit_failure;
+  }
   const core::KindRegistry registry = app::make_registry();
 
   CLI::App cli{"granflow: continuum and DEM models of saturated granular media, side by side"};
@@ -123,6 +159,9 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(cli, argc, argv);
 
+  // Under mpirun only `run` uses the other ranks; anything else is done once, by rank 0.
+  if (ranks->rank() != 0 && !run->parsed()) return core::exit_ok;
+
   if (convergence->parsed()) {
     // The ladder is analysis/rheometer_study.py driving this same executable (one granflow run per
     // rung); it writes study.csv/.md/.json and pareto.png (docs/speed-accuracy.md).
@@ -174,18 +213,28 @@ int main(int argc, char** argv) {
     return core::exit_ok;
   }
 
+  // From here on, every rank of an mpirun says when it leaves (MpiRanks::leave_run), so that no
+  // rank waits for another that stopped.
+  auto leave = [&](int code) {
+    if (run->parsed()) ranks->leave_run();
+    return code;
+  };
+  const bool lead = ranks->rank() == 0;
   std::optional<Loaded> maybe_loaded;
   try {
     maybe_loaded.emplace(load_and_check(registry, case_file, sets));
   } catch (const core::CaseError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return core::exit_bad_input;
+    if (lead) std::cerr << "error: " << e.what() << "\n";
+    return leave(core::exit_bad_input);
   } catch (const std::exception& e) {
-    std::cerr << "error: " << case_file << ": " << e.what() << "\n";
-    return core::exit_bad_input;
+    if (lead) std::cerr << "error: " << case_file << ": " << e.what() << "\n";
+    return leave(core::exit_bad_input);
   }
   const Loaded& loaded = *maybe_loaded;
   const core::Case& c = loaded.run_case;
+  if (!lead)
+    return leave(distributes_conditions(*loaded.entry) ? serve_run(*loaded.entry, c, ranks->rank())
+                                                       : core::exit_ok);
 
   if (check->parsed()) {
     const auto conditions = c.expand_sweep();
@@ -201,11 +250,14 @@ int main(int argc, char** argv) {
     context = std::make_unique<core::RunContext>(c, dir, force, quiet);
   } catch (const core::CaseError& e) {
     std::cerr << "error: " << e.what() << "\n";
-    return core::exit_bad_input;
+    return leave(core::exit_bad_input);
   }
   auto& log = *context->log;
   log.info("granflow run {} ({}{}) -> {}", case_file, c.kind(),
            loaded.entry->test.empty() ? "" : " / " + loaded.entry->test, dir.string());
+  if (ranks->distributed() && !distributes_conditions(*loaded.entry))
+    log.warn("started on {} MPI ranks, but kind {} runs on one: ranks 1-{} stay idle",
+             ranks->size(), c.kind(), ranks->size() - 1);
   int code = core::exit_ok;
   try {
     code = loaded.entry->run(*context);
@@ -223,5 +275,5 @@ int main(int argc, char** argv) {
   context->finish();
   if (code == core::exit_ok)
     log.info("finished in {:.3f} s; results in {}", context->wall_seconds(), dir.string());
-  return code;
+  return leave(code);
 }

@@ -12,6 +12,7 @@
 
 #include "analysis/steady_state.hpp"
 #include "continuum/multi_regime/model_sections.hpp"
+#include "core/sweep_scheduler.hpp"
 #include "dem_coupling/kind/dem_fits.hpp"
 #include "dem_coupling/kind/launch.hpp"
 #include "dem_coupling/kind/mixed_number_fit.hpp"
@@ -401,26 +402,36 @@ int run_shear(core::RunContext& ctx) {
   std::vector<PointResult> results;
   double total_particle_steps = 0.0, total_dem_wall = 0.0;
   int code = core::exit_ok;
-  for (std::size_t n = 0; n < conditions.size(); ++n) {
-    const core::Case& c = conditions[n];
+  // One condition: the deck and the LIGGGHTS run in RUN_DIR/point_N (any rank,
+  // core/sweep_scheduler.hpp), then its analysis, result.h5 groups, summary keys and log lines
+  // (rank 0, in condition order, reading point_N/: the files of a serial run).
+  auto point_dir = [&](const std::filesystem::path& run_dir, std::size_t n) {
+    return sweep ? run_dir / fmt::format("point_{}", n) : run_dir;
+  };
+  auto label_of = [&](std::size_t n) {
+    std::string label = sweep ? fmt::format("point {}", n) : std::string("DEM shear");
+    for (const auto& [key, value] : conditions[n].condition())
+      label += fmt::format(" {}={:g}", key, value);
+    return label;
+  };
+  auto compute = [&](const core::ConditionContext& cc) {
+    const core::Case& c = conditions[cc.index];
     const ShearDeckParams p = read_shear_params(c);
     const ShearDeck deck = make_shear_deck(p, "particles.data");
-    const std::filesystem::path dir =
-        sweep ? ctx.directory.path() / fmt::format("point_{}", n) : ctx.directory.path();
+    const std::filesystem::path dir = point_dir(cc.run_directory, cc.index);
     std::filesystem::create_directories(dir);
     std::ofstream(dir / "in.granflow") << deck.deck;
     std::ofstream(dir / "particles.data") << deck.data;
     const int ranks = static_cast<int>(c.integer("dem.ranks"));
     const auto command = driver_command(ranks, "in.granflow");
-    std::string label = sweep ? fmt::format("point {}", n) : std::string("DEM shear");
-    for (const auto& [key, value] : c.condition()) label += fmt::format(" {}={:g}", key, value);
-    ctx.log->info(
+    const std::string label = label_of(cc.index);
+    cc.log->info(
         "{}: {} particles, γ̇ = {:g} 1/s, Δt = {:.4g} s set by the {} limit; contact: {:g} × "
         "min(t_Rayleigh {:.4g} s, t_Hertz {:.4g} s at {:.3g} m/s); {} shear steps ({} per sample)",
         label, p.particles, p.shear_rate, deck.dt, deck.dt_limit, p.dt_safety, deck.times.rayleigh,
         deck.times.hertz, deck.times.reference_speed, deck.total_steps, deck.sample_every);
     if (p.wet.enabled)
-      ctx.log->info(
+      cc.log->info(
           "{}: immersed, η0 = {:g} Pa s, St = ρ_p d² γ̇/η0 = {:.4g}; viscous time scales at ν = "
           "{:.3g}: drag {:.4g} s, rotation {:.4g} s, normal lubrication {:.4g} s, tangential "
           "{:.4g} s (Δt ≤ {:g} × these)",
@@ -431,12 +442,17 @@ int run_shear(core::RunContext& ctx) {
           deck.fluid_times.normal_lubrication, deck.fluid_times.tangential_lubrication,
           p.wet.viscous_safety);
     if (p.constant_pressure)
-      ctx.log->info(
+      cc.log->info(
           "{}: servo to σ_yy = {:g} Pa, gain {:g}, every {} steps (at most {:g} per update)", label,
           p.normal_stress, p.servo_gain, deck.servo_every, p.servo_max_strain);
-    ctx.log->info("{}: rerun by hand: cd {} && {} > liggghts.out", label, dir.string(),
-                  shell_line(command));
-    core::Progress strain_progress(ctx.log, label + " strain", p.total_strain, 10.0);
+    cc.log->info("{}: rerun by hand: cd {} && {} > liggghts.out", label, dir.string(),
+                 shell_line(command));
+    if (ranks > 1 && core::launched_by_mpirun())
+      cc.log->warn(
+          "{}: dem.ranks = {} in a sweep distributed over MPI ranks: every point runs an mpirun "
+          "of its own; prefer --set dem.ranks=1 (docs/parallel-runs.md)",
+          label, ranks);
+    core::Progress strain_progress(cc.log, label + " strain", p.total_strain, 10.0);
     const auto t0 = std::chrono::steady_clock::now();
     const int status = run_in_directory(command, dir, dir / "liggghts.out", [&] {
       const SeriesTable t = read_series_table(dir / "series.tsv");
@@ -444,6 +460,17 @@ int run_shear(core::RunContext& ctx) {
     });
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return core::Packer().integer(status).number(wall).take();
+  };
+  auto absorb = [&](std::size_t n, const std::string& bytes) {
+    const core::Case& c = conditions[n];
+    const ShearDeckParams p = read_shear_params(c);
+    const ShearDeck deck = make_shear_deck(p, "particles.data");
+    const std::filesystem::path dir = point_dir(ctx.directory.path(), n);
+    const std::string label = label_of(n);
+    core::Unpacker packed(bytes);
+    const int status = static_cast<int>(packed.integer());
+    const double wall = packed.number();
     const std::string group = fmt::format("/conditions/{}", n);  // also for a single point
     PointResult r = analyse_point(ctx, dir, group, p, deck);
     r.wall = wall;
@@ -462,7 +489,7 @@ int run_shear(core::RunContext& ctx) {
       r.values.clear();
       results.push_back(r);
       progress.update(double(n + 1));
-      continue;
+      return;
     }
     const std::string suffix = sweep ? fmt::format(".{}", n) : "";
     for (const auto& [name, value] : r.values) ctx.summary.set("steady." + name + suffix, value);
@@ -484,7 +511,9 @@ int run_shear(core::RunContext& ctx) {
           r.values["Z"], wall, r.particle_steps_per_s);
     results.push_back(r);
     progress.update(double(n + 1));
-  }
+  };
+  if (!core::run_conditions(ctx, conditions.size(), compute, absorb))
+    return core::exit_ok;  // another rank than 0: rank 0 writes the tables and plots
 
   // Steady table, one row per condition (what calibration reads; docs/dem_dataset.md).
   struct Column {

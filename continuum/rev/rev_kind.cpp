@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <optional>
 
 #include "continuum/multi_regime/model_sections.hpp"
 #include "continuum/rev/simple_shear.hpp"
+#include "core/sweep_scheduler.hpp"
 
 namespace granflow::rev {
 
@@ -182,28 +184,79 @@ int run_simple_shear_case(core::RunContext& ctx) {
   double min_dt = INFINITY, max_dt = 0, max_explicit_ratio = 0;
   core::Progress progress(ctx.log, "conditions", static_cast<double>(conditions.size()));
 
-  for (std::size_t n = 0; n < conditions.size(); ++n) {
-    const core::Case& c = conditions[n];
-    const auto settings = continuum::read_multi_regime_settings(c);
-    const continuum::MultiRegimePoint point(settings);
-    const SimpleShearControl control = read_control(c);
+  // One condition: the integration (any rank, core/sweep_scheduler.hpp), then its series, row,
+  // summary keys and log lines (rank 0, in condition order: the files of a serial run).
+  auto label_of = [&](std::size_t n) {
     std::string label = sweep ? fmt::format("condition {}", n) : std::string("simple shear");
-    for (const auto& [key, value] : c.condition()) label += fmt::format(" {}={:g}", key, value);
-    ctx.log->info("{}: {} at γ̇ = {:g} 1/s", label, c.string("loading.control"), control.shear_rate);
-    core::Progress strain_progress(ctx.log, label + " strain", control.max_strain);
+    for (const auto& [key, value] : conditions[n].condition())
+      label += fmt::format(" {}={:g}", key, value);
+    return label;
+  };
+  auto compute = [&](const core::ConditionContext& cc) {
+    const core::Case& c = conditions[cc.index];
+    const continuum::MultiRegimePoint point(continuum::read_multi_regime_settings(c));
+    const SimpleShearControl control = read_control(c);
+    const std::string label = label_of(cc.index);
+    cc.log->info("{}: {} at γ̇ = {:g} 1/s", label, c.string("loading.control"), control.shear_rate);
+    core::Progress strain_progress(cc.log, label + " strain", control.max_strain);
     SimpleShearResult r;
-    const std::string group = sweep ? fmt::format("/conditions/{}", n) : std::string("/series");
+    std::optional<core::NumericalFailure> failure;
     try {
       run_simple_shear(point, control, r, [&](double strain) { strain_progress.update(strain); });
-    } catch (const core::NumericalFailure&) {
-      write_series(ctx.result, sweep ? group + "/series" : group, r.series);  // keep what ran
-      throw;
+    } catch (const core::NumericalFailure& e) {
+      failure = e;  // what ran is kept (absorb writes it), then the failure stops the sweep
     }
+    core::Packer packed;
+    const auto& ts = r.series;
+    for (const auto* v :
+         {&ts.time, &ts.strain, &ts.time_step, &ts.granular_temperature, &ts.void_ratio,
+          &ts.solid_fraction, &ts.pressure, &ts.shear_stress, &ts.collisional_shear_stress,
+          &ts.liquid_shear_stress, &ts.friction, &ts.inertial_number, &ts.force_chain_shear_stress,
+          &ts.effective_pressure, &ts.yield_size})
+      packed.numbers(*v);
+    const auto& st = r.steady;
+    packed.integer(st.reached ? 1 : 0);
+    for (double v :
+         {st.strain, st.void_ratio, st.solid_fraction, st.granular_temperature, st.pressure,
+          st.effective_pressure, st.force_chain_shear_stress, st.yield_size, st.shear_stress,
+          st.collisional_shear_stress, st.liquid_shear_stress, st.friction, st.inertial_number,
+          st.viscous_number, r.min_time_step, r.max_time_step, r.max_explicit_ratio})
+      packed.number(v);
+    packed.integer(r.steps);
+    packed.integer(failure ? 1 : 0);
+    if (failure) core::pack_numerical_failure(packed, *failure);
+    return packed.take();
+  };
+  auto absorb = [&](std::size_t n, const std::string& bytes) {
+    const core::Case& c = conditions[n];
+    const auto settings = continuum::read_multi_regime_settings(c);
+    const SimpleShearControl control = read_control(c);
+    const std::string label = label_of(n);
+    core::Unpacker packed(bytes);
+    SimpleShearResult r;
+    auto& ts = r.series;
+    for (auto* v :
+         {&ts.time, &ts.strain, &ts.time_step, &ts.granular_temperature, &ts.void_ratio,
+          &ts.solid_fraction, &ts.pressure, &ts.shear_stress, &ts.collisional_shear_stress,
+          &ts.liquid_shear_stress, &ts.friction, &ts.inertial_number, &ts.force_chain_shear_stress,
+          &ts.effective_pressure, &ts.yield_size})
+      *v = packed.numbers();
+    auto& s = r.steady;
+    s.reached = packed.integer() != 0;
+    for (double* v :
+         {&s.strain, &s.void_ratio, &s.solid_fraction, &s.granular_temperature, &s.pressure,
+          &s.effective_pressure, &s.force_chain_shear_stress, &s.yield_size, &s.shear_stress,
+          &s.collisional_shear_stress, &s.liquid_shear_stress, &s.friction, &s.inertial_number,
+          &s.viscous_number, &r.min_time_step, &r.max_time_step, &r.max_explicit_ratio})
+      *v = packed.number();
+    r.steps = static_cast<long>(packed.integer());
+    const std::string group = sweep ? fmt::format("/conditions/{}", n) : std::string("/series");
     write_series(ctx.result, sweep ? group + "/series" : group, r.series);
+    // A failed integration: what ran is written (above), then it stops the run as it always did.
+    if (packed.integer() != 0) core::throw_numerical_failure(packed);
     if (sweep)
       for (const auto& [key, value] : c.condition()) ctx.result.attribute(group, key, value);
     ctx.result.flush();
-    const auto& s = r.steady;
     if (!s.reached)
       ctx.log->warn("{}: no steady state within strain {:g} / {} steps; the last state is reported",
                     label, s.strain, r.steps);
@@ -257,7 +310,9 @@ int run_simple_shear_case(core::RunContext& ctx) {
     max_dt = std::max(max_dt, r.max_time_step);
     max_explicit_ratio = std::max(max_explicit_ratio, r.max_explicit_ratio);
     progress.update(static_cast<double>(n + 1));
-  }
+  };
+  if (!core::run_conditions(ctx, conditions.size(), compute, absorb))
+    return core::exit_ok;  // another rank than 0: rank 0 writes the tables and plots
 
   // Steady table (one row per condition).
   auto column = [&](auto member) {

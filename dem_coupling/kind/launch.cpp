@@ -10,6 +10,10 @@
 #include <stdexcept>
 #include <thread>
 
+#include "core/sweep_scheduler.hpp"
+
+extern char** environ;
+
 namespace granflow::dem {
 
 std::filesystem::path driver_path() {
@@ -45,6 +49,24 @@ std::string shell_line(const std::vector<std::string>& command) {
   return line;
 }
 
+std::vector<std::string> driver_environment(const std::vector<std::string>& inherited,
+                                            bool inside_mpi_job, bool root) {
+  auto starts = [](const std::string& entry, const char* prefix) {
+    return entry.rfind(prefix, 0) == 0;
+  };
+  std::vector<std::string> env;
+  for (const auto& entry : inherited) {
+    if (root && starts(entry, "OMPI_ALLOW_RUN_AS_ROOT")) continue;  // set below
+    if (inside_mpi_job && (starts(entry, "OMPI_") || starts(entry, "PMIX_"))) continue;
+    env.push_back(entry);
+  }
+  if (root) {
+    env.push_back("OMPI_ALLOW_RUN_AS_ROOT=1");
+    env.push_back("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1");
+  }
+  return env;
+}
+
 int run_in_directory(const std::vector<std::string>& command,
                      const std::filesystem::path& directory,
                      const std::filesystem::path& output_file, const std::function<void()>& poll,
@@ -56,6 +78,15 @@ int run_in_directory(const std::vector<std::string>& command,
   std::vector<std::string> args = command;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
+  // Everything the child needs is prepared before fork: between fork and exec it only makes
+  // async-signal-safe calls (rank 0 of a distributed sweep forks from a second thread).
+  std::vector<std::string> inherited;
+  for (char** e = environ; *e; ++e) inherited.emplace_back(*e);
+  std::vector<std::string> env =
+      driver_environment(inherited, core::launched_by_mpirun(), ::geteuid() == 0);
+  std::vector<char*> envp;
+  for (auto& e : env) envp.push_back(e.data());
+  envp.push_back(nullptr);
   const pid_t pid = ::fork();
   if (pid < 0) throw std::runtime_error("cannot fork to launch granflow-dem");
   if (pid == 0) {
@@ -65,11 +96,7 @@ int run_in_directory(const std::vector<std::string>& command,
     ::dup2(fd, 1);
     ::dup2(fd, 2);
     ::close(fd);
-    if (::geteuid() == 0) {
-      ::setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
-      ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
-    }
-    ::execvp(argv[0], argv.data());
+    ::execvpe(argv[0], argv.data(), envp.data());
     ::_exit(127);
   }
   int status = 0;

@@ -17,8 +17,18 @@ std::vector<std::string> driver_command(int ranks, const std::string& deck_name)
 // Shell-quoted one-line form of `command` (what the log prints for a rerun by hand).
 std::string shell_line(const std::vector<std::string>& command);
 
+// The environment granflow-dem starts with: `inherited` (NAME=value entries), plus
+// OMPI_ALLOW_RUN_AS_ROOT(_CONFIRM)=1 for root. When this process is itself a rank of an mpirun
+// (`inside_mpi_job`: a sweep distributed over ranks, docs/parallel-runs.md), the variables Open MPI
+// and PMIx set for that job's ranks (OMPI_* except OMPI_ALLOW_RUN_AS_ROOT*, PMIX_*) are dropped:
+// inherited, they make granflow-dem's MPI_Init, or the nested mpirun of dem.ranks > 1, try to
+// join the parent job instead of starting a job of its own.
+std::vector<std::string> driver_environment(const std::vector<std::string>& inherited,
+                                            bool inside_mpi_job, bool root);
+
 // Runs `command` in `directory` with stdout+stderr to `output_file`; calls `poll` about every
-// `poll_seconds` while it runs. Returns the exit status (128 + signal when killed).
+// `poll_seconds` while it runs, in the environment of driver_environment (this process's). Returns
+// the exit status (128 + signal when killed).
 int run_in_directory(const std::vector<std::string>& command,
                      const std::filesystem::path& directory,
                      const std::filesystem::path& output_file, const std::function<void()>& poll,
