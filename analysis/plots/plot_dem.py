@@ -11,6 +11,12 @@ mu_phi_wet_I.png, stress_parts.png, with Boyer et al. (2011) (model.md section 7
   mu(J) = mu_1 + (mu_2 - mu_1)/(1 + J_0/J) + J + (5/2) nu_m J^(1/2),  phi(J) = nu_m/(1 + J^(1/2)),
   mu_1 = 0.32, mu_2 = 0.7, J_0 = 0.005, nu_m = 0.585; against K = J + alpha I^2 the same law in K
   (Trulsson et al. 2012 form), alpha = fit.alpha of summary.json if present, else the case's.
+Fits of the run (/fits of result.h5, dem_coupling/kind/dem_fits.hpp; rewritten by `granflow
+report`): the fitted mu(I) and phi(I) = phi_c - a I per friction on mu_I.png and phi_I.png with the
+published DEM values (mu_p = 0.5: mu_s 0.35-0.38, phi_c 0.587, Chialvo et al. 2012; frictionless:
+mu_s 0.10, phi_c 0.639, Peyneau & Roux 2008); wet: the free mu(K) fit on mu_K.png and
+boyer_split.png (tau_contact/sigma_yy against Boyer's contact part mu_c(J), tau_lub/sigma_yy
+against the hydrodynamic part mu_h(J) = J + 2.5 nu_m J^(1/2)).
 Usage: plot_dem.py RUN_DIR"""
 import os
 import sys
@@ -37,6 +43,29 @@ def boyer_phi(J):
 
 def mu_of_I(I, mu_s=MU_S, mu_2=MU_2, i0=I_0):
     return mu_s + (mu_2 - mu_s) / (i0 / I + 1.0)
+
+
+def boyer_mu_c(J):
+    return BOYER_MU_1 + (BOYER_MU_2 - BOYER_MU_1) / (1.0 + BOYER_J_0 / J)
+
+
+def boyer_mu_h(J):
+    return J + 2.5 * BOYER_NU_M * np.sqrt(J)
+
+
+# Published DEM values (model.md section 7): (mu_s low, mu_s high, phi_c, source).
+PUBLISHED = {0.5: (0.35, 0.38, 0.587, "Chialvo 2012"), 0.0: (0.10, 0.10, 0.639, "Peyneau & Roux 2008")}
+
+
+def friction_fits(h5):
+    """{mu_p: attrs of /fits/<label>} for the dry fits present."""
+    out = {}
+    if "fits" not in h5:
+        return out
+    for name, g in h5["fits"].items():
+        if isinstance(g, h5py.Group) and "particle_friction" in g.attrs:
+            out[float(g.attrs["particle_friction"])] = dict(g.attrs)
+    return out
 
 
 def point_plots(run, h5, n):
@@ -98,10 +127,24 @@ def sweep_plots(run, h5):
     for m in groups:
         k = (mup == m) & np.isfinite(mu)
         ax.errorbar(I[k], mu[k], xerr=Ie[k], yerr=mue[k], fmt="o", ms=4, label=f"DEM μ_p = {m:g}")
-    ax.semilogx(Igrid, mu_of_I(Igrid), "k-", lw=0.8,
-                label="μ(I), μ_s=0.38, μ_2=0.64, I_0=0.28 (Jop 2006)")
-    ax.axhline(0.10, color="gray", ls=":", lw=0.8, label="frictionless μ_s ≈ 0.10")
-    ax.set(xlabel="I = γ̇ d / sqrt(σ_yy/ρ_p)", ylabel="μ = τ/σ_yy", title="μ(I)")
+    fits = friction_fits(h5)
+    for c, m in enumerate(groups):
+        color = f"C{c}"
+        f = fits.get(float(m))
+        if f is not None and np.isfinite(f.get("mu_s", np.nan)):
+            ax.semilogx(Igrid, mu_of_I(Igrid, f["mu_s"], f["mu_2"], f["I_0"]), "-", color=color,
+                        lw=1.0, label=f"fit μ_p = {m:g}: μ_s = {f['mu_s']:.3f} ± {f['mu_s_err']:.3f}, "
+                        f"χ²_red = {f['mu_chi2_red']:.2g}")
+        pub = PUBLISHED.get(float(m))
+        if pub is not None:
+            lo, hi, _, src = pub
+            if hi > lo:
+                ax.axhspan(lo, hi, color=color, alpha=0.15, lw=0, label=f"published μ_s {lo:g}-{hi:g} ({src})")
+            else:
+                ax.axhline(lo, color=color, ls=":", lw=0.8, label=f"published μ_s ≈ {lo:g} ({src})")
+    ax.semilogx(Igrid, mu_of_I(Igrid), "k--", lw=0.6,
+                label="glass beads: μ_s=0.38, μ_2=0.64, I_0=0.28 (Jop 2006)")
+    ax.set(xlabel="I = γ̇ d / sqrt(σ_yy/ρ_p)", ylabel="μ = τ/σ_yy", title="μ(I)", xlim=(5e-3, 0.5))
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(os.path.join(run, "mu_I.png"), dpi=120)
@@ -110,9 +153,17 @@ def sweep_plots(run, h5):
     for m in groups:
         k = (mup == m) & np.isfinite(phi)
         ax.errorbar(I[k], phi[k], xerr=Ie[k], yerr=phie[k], fmt="o", ms=4, label=f"DEM μ_p = {m:g}")
-    ax.axhline(0.587, color="C0", ls=":", lw=0.8, label="ν_c ≈ 0.587 (μ_p = 0.5)")
-    ax.axhline(0.639, color="C1", ls=":", lw=0.8, label="ν_c ≈ 0.639 (frictionless)")
-    ax.set(xscale="log", xlabel="I", ylabel="φ", title="φ(I)")
+    for c, m in enumerate(groups):
+        color = f"C{c}"
+        f = fits.get(float(m))
+        if f is not None and np.isfinite(f.get("phi_c", np.nan)):
+            ax.plot(Igrid, f["phi_c"] - f["a"] * Igrid, "-", color=color, lw=1.0,
+                    label=f"fit φ_c − a I: φ_c = {f['phi_c']:.4f} ± {f['phi_c_err']:.4f}, "
+                    f"χ²_red = {f['phi_chi2_red']:.2g}")
+        pub = PUBLISHED.get(float(m))
+        if pub is not None:
+            ax.axhline(pub[2], color=color, ls=":", lw=0.8, label=f"published φ_c ≈ {pub[2]:g} ({pub[3]})")
+    ax.set(xscale="log", xlabel="I", ylabel="φ", title="φ(I)", xlim=(5e-3, 0.5))
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(os.path.join(run, "phi_I.png"), dpi=120)
@@ -165,6 +216,13 @@ def wet_sweep_plots(run, h5):
         if law is not None:
             ax.plot(grid, law(grid), "k-", lw=0.8, label="Boyer et al. 2011"
                     + (" (law in K)" if name == "mu_K" else ""))
+            if name == "mu_K" and "fits/mixed_number" in h5:
+                f = h5["fits/mixed_number"].attrs
+                if np.isfinite(f["alpha"]):
+                    ax.plot(grid, f["mu_1"] + (f["mu_2"] - f["mu_1"]) / (1.0 + f["K_0"] / grid),
+                            "r-", lw=1.0, label=f"free fit: μ_1 = {f['mu_1']:.3f}, μ_2 = "
+                            f"{f['mu_2']:.3f}, K_0 = {f['K_0']:.3g}, α = {f['alpha']:.3g} ± "
+                            f"{f['alpha_err']:.2g}, χ²_red = {f['mu_chi2_red']:.2g}")
             ax.legend(fontsize=7)
         else:
             ax.plot(grid, mu_of_I(grid), "k--", lw=0.8, label="dry μ(I) (Jop 2006)")
@@ -173,6 +231,30 @@ def wet_sweep_plots(run, h5):
         ax.set(xscale="log", xlabel=xlabel, ylabel=ylabel, title=f"immersed: {ylabel}({xlabel[0]})")
         fig.tight_layout()
         fig.savefig(os.path.join(run, f"{name}.png"), dpi=120)
+        plt.close(fig)
+    if "fits/boyer_split" in h5:
+        b = h5["fits/boyer_split"]
+        Jb = b["viscous_number"][:]
+        okb = np.isfinite(b["friction_contact"][:]) & (Jb > 0)
+        fig, ax = plt.subplots(figsize=(5.5, 4.2))
+        ax.errorbar(Jb[okb], b["friction_contact"][:][okb], yerr=b["friction_contact_err"][:][okb],
+                    fmt="o", ms=4, color="C0", label="DEM τ_contact/σ_yy")
+        ax.errorbar(Jb[okb], b["friction_lubrication"][:][okb],
+                    yerr=b["friction_lubrication_err"][:][okb], fmt="s", ms=4, color="C1",
+                    label="DEM τ_lub/σ_yy")
+        ax.errorbar(Jb[okb], mu[okb], yerr=mue[okb], fmt="^", ms=4, color="C2", label="DEM μ")
+        ax.plot(grid, boyer_mu_c(grid), "-", color="C0", lw=0.8, label="Boyer μ_c(J) (contact)")
+        ax.plot(grid, boyer_mu_h(grid), "-", color="C1", lw=0.8,
+                label="Boyer μ_h(J) = J + 2.5 ν_m J^½ (hydrodynamic)")
+        ax.plot(grid, boyer_mu(grid), "-", color="C2", lw=0.8, label="Boyer μ(J)")
+        St_b = b["stokes_number"][:]
+        for x, y, st in zip(Jb[okb], b["friction_contact"][:][okb], St_b[okb]):
+            ax.annotate(f"St {st:.2g}", (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
+        ax.set(xscale="log", xlabel="J = η0 γ̇ / σ_yy", ylabel="stress ratio",
+               title="contact and hydrodynamic parts vs Boyer 2011")
+        ax.legend(fontsize=6)
+        fig.tight_layout()
+        fig.savefig(os.path.join(run, "boyer_split.png"), dpi=120)
         plt.close(fig)
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     tau = s["shear_stress"][:]
