@@ -10,6 +10,7 @@
 #include "analysis/calibration/calibration.hpp"
 #include "continuum/multi_regime/model_sections.hpp"
 #include "continuum/rev/simple_shear.hpp"
+#include "core/sweep_scheduler.hpp"
 #include "dem_coupling/dem_kind.hpp"
 
 namespace granflow::pair {
@@ -89,6 +90,9 @@ int run_pair_case(core::RunContext& ctx) {
   {
     core::RunContext dem_ctx(d, dem_dir, true, false);  // its progress on stderr too
     code = entry.run(dem_ctx);
+    // Under mpirun the DEM points were shared out over the ranks (core/sweep_scheduler.hpp); the
+    // continuum side, a fraction of a second per point, stays on rank 0 with the outputs.
+    if (!core::owns_outputs()) return code;
     dem_ctx.finish();
   }
   if (code != core::exit_ok) {
