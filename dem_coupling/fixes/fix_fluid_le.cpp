@@ -68,17 +68,26 @@ class FixFluidLE : public LAMMPS_NS::Fix {
   bool report_time_scales_ = true;
   // This step's pairs within h_max (grow-only buffers, structure of arrays, sized by the list):
   // pairs with an owned j at [0, owned), pairs with a ghost j at [capacity - ghost, capacity).
+  // Layout after selection: [0, owned) owned j; [owned, owned + images) ghost j that is a
+  // periodic image of an atom owned here (target = that atom); [top - ghost, top - ghost + half)
+  // ghost j owned by another rank. Capacity 2 × entries keeps the regions apart.
   struct LubricatedPairs {
-    std::vector<int> i, j;
+    std::vector<int> i, j, target;
     std::vector<double> inverse_distance, normal, tangential, log_argument;
     void grow(std::size_t entries) {
-      if (entries <= i.size()) return;
-      const std::size_t n = entries + entries / 2;  // grows with the list, not in steady state
-      for (auto* a : {&i, &j}) a->resize(n);
+      if (2 * entries <= i.size()) return;
+      const std::size_t n = 3 * entries;  // grows with the list, not in steady state
+      for (auto* a : {&i, &j, &target}) a->resize(n);
       for (auto* a : {&inverse_distance, &normal, &tangential, &log_argument}) a->resize(n);
     }
   };
   LubricatedPairs pairs_;
+  // For each ghost (index - nlocal): the local index of the owned atom it is a periodic image
+  // of, or -1 if the atom is owned by another rank; rebuilt when the ghosts are (with every
+  // neighbour build: neighbor->ncalls counts them).
+  std::vector<int> ghost_owner_;
+  LAMMPS_NS::bigint ghost_owner_build_ = -1;
+  void update_ghost_owners();
   void lubrication_forces(std::array<double, fluid_le_vector::size>& acc);
 };
 
@@ -380,13 +389,33 @@ void FixFluidLE::post_force(int /*vflag*/) {
   last_reduce_ = -1;  // new forces: reduce again on the next request
 }
 
+// Which ghosts are periodic images of atoms owned by this rank (atom->map gives the owned copy
+// of a tag when this rank has one, LAMMPS' convention); without a map, none is.
+void FixFluidLE::update_ghost_owners() {
+  const int nlocal = atom->nlocal, nghost = atom->nghost;
+  if (ghost_owner_.size() < std::size_t(nghost)) ghost_owner_.resize(nghost + nghost / 2);
+  for (int g = 0; g < nghost; ++g) {
+    int owner = -1;
+    if (atom->map_style != 0) {
+      const int k = atom->map(atom->tag[nlocal + g]);
+      if (k >= 0 && k < nlocal) owner = k;
+    }
+    ghost_owner_[g] = owner;
+  }
+  ghost_owner_build_ = neighbor->ncalls;
+}
+
 // Normal and tangential lubrication of the pairs within h_max, on the granular half list
-// (newton off: a pair with an owned j is listed once and updates both; a pair with a ghost j is
-// listed by both owners, so each applies its own half and counts the pair's virial and
-// dissipation with weight 1/2). Four passes over flat arrays, so that each is a short loop of
-// independent iterations (no long sqrt -> division -> log -> force dependency chain per pair):
+// (newton off). A pair with an owned j is listed once and updates both. A pair with a ghost j
+// is listed by both owners: if j's atom is owned by this rank too (a periodic image: on one rank
+// every ghost is), the pair is computed once, by the owner with the smaller tag, and updates i
+// and j's atom; if j's atom is on another rank, each owner applies its own half and counts the
+// pair's virial and dissipation with weight 1/2. Four passes over flat arrays, so that each is a
+// short loop of independent iterations (no long sqrt -> division -> log -> force dependency
+// chain per pair):
 //   1. select the listed pairs within h_max, compacted without a data-dependent branch, owned j
-//      from the front of the buffers and ghost j from the back;
+//      from the front of the buffers and ghost j from the back; then sort the ghost pairs into
+//      periodic images (kept once) and pairs with another rank;
 //   2. geometry and resistances (pair_lubrication_terms: one sqrt and one division per pair);
 //   3. the log(1/ξ) of the tangential mode, all pairs back to back;
 //   4. forces, torques, virials and dissipation from the velocities.
@@ -447,7 +476,31 @@ void FixFluidLE::lubrication_forces(std::array<double, vec::size>& acc) {
       ghost += lubricated & !j_owned;
     }
   }
-  const std::size_t ranges[2][2] = {{0, owned}, {top - ghost, top}};
+  // Pass 1b: periodic images to [owned, owned + images) once (smaller tag first; a sphere and
+  // its own image, only in boxes narrower than the list reach, stays in the half-weight group),
+  // pairs with other ranks compacted to [top - ghost, top - ghost + half).
+  if (ghost_owner_build_ != neighbor->ncalls) update_ghost_owners();
+  const int* tag = atom->tag;
+  int* __restrict pair_target = pairs_.target.data();
+  std::size_t images = 0, half = 0;
+  const std::size_t remote_begin = top - ghost;
+  for (std::size_t p = remote_begin; p < top; ++p) {
+    const int i = pair_i[p], j = pair_j[p];
+    const int owner = ghost_owner_[j - nlocal];
+    if (owner >= 0 && tag[i] != tag[j]) {
+      if (tag[i] < tag[j]) {
+        pair_i[owned + images] = i;
+        pair_j[owned + images] = j;
+        pair_target[owned + images] = owner;
+        ++images;
+      }
+    } else {
+      pair_i[remote_begin + half] = i;
+      pair_j[remote_begin + half] = j;
+      ++half;
+    }
+  }
+  const std::size_t ranges[2][2] = {{0, owned + images}, {remote_begin, remote_begin + half}};
 
   // Pass 2.
   for (const auto& range : ranges)
@@ -469,14 +522,18 @@ void FixFluidLE::lubrication_forces(std::array<double, vec::size>& acc) {
       for (std::size_t p = range[0]; p < range[1]; ++p)
         tangential_resistance[p] *= std::log(log_argument[p]);
 
-  // Pass 4, once for the owned-j pairs (weight 1, j updated) and once for the ghost-j pairs
-  // (weight 1/2, j left to its owner). Sums in registers, weighted at the end.
-  double wn[2][6] = {}, wt[2][6] = {}, dissipation[2] = {0.0, 0.0};
-  for (int kind = 0; kind < 2; ++kind) {
-    const bool j_owned = kind == 0;
+  // Pass 4, for the owned-j pairs (weight 1, j updated), the periodic images (weight 1, j's
+  // atom updated) and the pairs with other ranks (weight 1/2, j left to its owner). Sums in
+  // registers, weighted at the end.
+  const std::size_t kinds[3][2] = {
+      {0, owned}, {owned, owned + images}, {remote_begin, remote_begin + half}};
+  double wn[3][6] = {}, wt[3][6] = {}, dissipation[3] = {0.0, 0.0, 0.0};
+  for (int kind = 0; kind < 3; ++kind) {
+    const bool j_updated = kind < 2;
     double sn[6] = {0, 0, 0, 0, 0, 0}, st[6] = {0, 0, 0, 0, 0, 0}, pair_dissipation = 0.0;
-    for (std::size_t p = ranges[kind][0]; p < ranges[kind][1]; ++p) {
+    for (std::size_t p = kinds[kind][0]; p < kinds[kind][1]; ++p) {
       const int i = pair_i[p], j = pair_j[p];
+      const int jt = kind == 0 ? j : pair_target[p];  // where j's force and torque go
       const double del[3] = {xf[3 * i] - xf[3 * j], xf[3 * i + 1] - xf[3 * j + 1],
                              xf[3 * i + 2] - xf[3 * j + 2]};
       const double inverse_r = inverse_distance[p];
@@ -520,12 +577,12 @@ void FixFluidLE::lubrication_forces(std::array<double, vec::size>& acc) {
         const double nxF[3] = {n[1] * Ft[2] - n[2] * Ft[1], n[2] * Ft[0] - n[0] * Ft[2],
                                n[0] * Ft[1] - n[1] * Ft[0]};
         for (int a = 0; a < 3; ++a) tf[3 * i + a] -= ri * nxF[a];
-        if (j_owned)
-          for (int a = 0; a < 3; ++a) tf[3 * j + a] -= rj * nxF[a];
+        if (j_updated)
+          for (int a = 0; a < 3; ++a) tf[3 * jt + a] -= rj * nxF[a];
       }
       for (int a = 0; a < 3; ++a) ff[3 * i + a] += F[a];
-      if (j_owned)
-        for (int a = 0; a < 3; ++a) ff[3 * j + a] -= F[a];
+      if (j_updated)
+        for (int a = 0; a < 3; ++a) ff[3 * jt + a] -= F[a];
     }
     for (int k = 0; k < 6; ++k) {
       wn[kind][k] = sn[k];
@@ -534,11 +591,11 @@ void FixFluidLE::lubrication_forces(std::array<double, vec::size>& acc) {
     dissipation[kind] = pair_dissipation;
   }
   for (int k = 0; k < 6; ++k) {
-    acc[vec::lubrication_normal + k] = wn[0][k] + 0.5 * wn[1][k];
-    acc[vec::lubrication_tangential + k] = wt[0][k] + 0.5 * wt[1][k];
+    acc[vec::lubrication_normal + k] = wn[0][k] + wn[1][k] + 0.5 * wn[2][k];
+    acc[vec::lubrication_tangential + k] = wt[0][k] + wt[1][k] + 0.5 * wt[2][k];
   }
-  acc[vec::lubricated_pairs] = double(owned) + 0.5 * double(ghost);
-  acc[vec::lubrication_dissipation] = dissipation[0] + 0.5 * dissipation[1];
+  acc[vec::lubricated_pairs] = double(owned + images) + 0.5 * double(half);
+  acc[vec::lubrication_dissipation] = dissipation[0] + dissipation[1] + 0.5 * dissipation[2];
 }
 
 double FixFluidLE::compute_vector(int n) {
