@@ -11,7 +11,12 @@ usage: bench/dem_fluid_bench.py BUILD_DIR [--steps N] [--repeat R] [--out DIR] [
 Prints a markdown table (s per 1000 steps; wet/dry ratio; speed-up) for docs/performance.md#dem_fluid.
 --breakdown adds LIGGGHTS' own timing split (Pair / Neigh / Comm / Other, 1 rank, one
 uninterrupted `run` inside the deck) for: dry; dry with the wet neighbour-list reach
-(contact_distance_factor 1.0556 = 1 + h_max/d_small); drag + rotational drag only; all forces.
+(contact_distance_factor 1.0556 = 1 + h_max/d_small, what fix fluid/le registers); dry with the
+same reach through the skin instead (0.25 mm, factor 1: the list is as long, but pair gran skips
+the pairs outside contact); drag + rotational drag only (the wet microstructure without
+lubrication); drag + normal lubrication (`tangential no`); all fluid forces. The wet variants also
+report the mean number of lubricated pairs (f_fluid[27]), and the lubrication's cost per pair is
+(Other of a lubricated variant - Other of the drag-only one) / pairs.
 """
 import argparse
 import os
@@ -97,11 +102,14 @@ def run(driver, workdir, wet, ranks, steps):
     return float(stats["liggghts_s"]) / steps * 1000.0  # s per 1000 steps
 
 
+DRAG_ONLY = ("fix fluid all fluid/le viscosity 0.01 permeability seed_eq26 drag yes rotation yes")
 BREAKDOWN = {
     "dry": "",
-    "dry + list reach of the wet run": "neigh_modify delay 0 contact_distance_factor 1.0556",
-    "drag + rotational drag only": ("fix fluid all fluid/le viscosity 0.01 permeability seed_eq26 "
-                                    "drag yes rotation yes"),
+    "dry + list reach of the wet run (contact_distance_factor 1.0556)":
+        "neigh_modify delay 0 contact_distance_factor 1.0556",
+    "dry + the same reach as skin (0.25 mm, factor 1)": "neighbor 0.00025 bin",
+    "drag + rotational drag only": DRAG_ONLY,
+    "drag + normal lubrication (tangential no)": FLUID.replace("tangential yes", "tangential no"),
     "all fluid forces": FLUID,
 }
 
@@ -112,8 +120,12 @@ def breakdown(driver, workdir, steps):
     for name, fluid in BREAKDOWN.items():
         d = os.path.join(workdir, "breakdown_" + str(len(rows)))
         os.makedirs(d, exist_ok=True)
+        wet = "fluid/le" in fluid
+        # the mean number of lubricated pairs over the run (entry 27 of fix fluid/le)
+        count = ("fix pairs all ave/time 10 1 10 f_fluid[27] ave running\n"
+                 "thermo_style custom step atoms ke c_gf_virial[2] f_pairs\n") if wet else ""
         with open(os.path.join(d, "in.bench"), "w") as f:
-            f.write(DECK.format(steps=100, sample=100, fluid=fluid) + f"run {steps}\n")
+            f.write(DECK.format(steps=100, sample=100, fluid=fluid) + count + f"run {steps}\n")
         subprocess.run([driver, "in.bench", "-log", "log.txt", "-screen", "none"], cwd=d,
                        check=True, stdout=subprocess.DEVNULL)
         text = open(os.path.join(d, "log.txt"), errors="replace").read()
@@ -122,12 +134,27 @@ def breakdown(driver, workdir, steps):
         for key in ("Pair", "Neigh", "Comm", "Other"):
             line = next(l for l in block.splitlines() if l.startswith(key + " "))
             times[key] = float(line.split("=")[1].split()[0]) / steps * 1e3
-        rows.append((name, times))
-    print("\n| variant (1 rank) | Pair | Neigh | Comm | Other (fixes) | total (ms/step) |")
-    print("|---|---|---|---|---|---|")
-    for name, t in rows:
+        pairs = None
+        if wet:  # last thermo line before the timing block: step atoms ke p f_pairs
+            thermo = text[:text.index(f"Loop time of", text.index(f"run {steps}"))]
+            last = [l.split() for l in thermo.splitlines() if l.split()[:1] and
+                    l.split()[0].isdigit()][-1]
+            pairs = float(last[-1])
+        rows.append((name, times, pairs))
+    print("\n| variant (1 rank) | Pair | Neigh | Comm | Other (fixes) | total (ms/step) | "
+          "lubricated pairs |")
+    print("|---|---|---|---|---|---|---|")
+    for name, t, pairs in rows:
         print(f"| {name} | {t['Pair']:.3f} | {t['Neigh']:.3f} | {t['Comm']:.3f} | "
-              f"{t['Other']:.3f} | {sum(t.values()):.3f} |")
+              f"{t['Other']:.3f} | {sum(t.values()):.3f} | "
+              f"{'' if pairs is None else f'{pairs:.0f}'} |")
+    drag_other = rows[3][1]["Other"]
+    for name, t, pairs in rows[4:]:
+        print(f"\nlubrication cost, {name}: ({t['Other']:.3f} - {drag_other:.3f}) ms / "
+              f"{pairs:.0f} pairs = {(t['Other'] - drag_other) / pairs * 1e6:.1f} ns per pair")
+    dry = sum(rows[0][1].values())
+    print(f"\ntotal / dry: " + ", ".join(f"{name} {sum(t.values()) / dry:.2f}"
+                                       for name, t, _ in rows[1:]))
 
 
 def main():
