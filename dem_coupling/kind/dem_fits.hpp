@@ -253,6 +253,8 @@ inline std::map<std::string, double> dem_fit_summary(const DemFits& f, const Dem
     out[p + "a"] = d.a(), out[p + "a_err"] = d.a_err();
     out[p + "phi_chi2_red"] = d.phi.chi2_red, out[p + "phi_dof"] = d.phi.dof;
     out[p + "phi_max_residual"] = d.phi.max_abs_residual();
+    out[p + "mu_s_published_deviation"] = d.mu_s_published_deviation();
+    out[p + "phi_c_published_deviation"] = d.phi_c_published_deviation();
   }
   if (!f.wet) return out;
   const MixedNumberLawFit& m = f.mixed;
@@ -310,12 +312,22 @@ inline std::string dem_fits_markdown(const DemFits& f, const DemSteadyTable& t) 
           num(d.mu.chi2_red, "{:.3g}"), num(d.mu.max_abs_residual(), "{:.2g}"), num(d.phi_c()),
           num(d.phi_c_err(), "{:.2g}"), num(d.a()), num(d.a_err(), "{:.2g}"),
           num(d.phi.chi2_red, "{:.3g}"), num(d.phi.max_abs_residual(), "{:.2g}"),
-          pub ? fmt::format("{:g}-{:g}, {:g} ({})", pub->mu_s_low, pub->mu_s_high, pub->phi_c,
-                            pub->source)
+          pub ? fmt::format("{}, {:g} ({})",
+                            pub->mu_s_high > pub->mu_s_low
+                                ? fmt::format("{:g}-{:g}", pub->mu_s_low, pub->mu_s_high)
+                                : fmt::format("{:g}", pub->mu_s_low),
+                            pub->phi_c, pub->source)
               : std::string("-"));
     }
     md +=
-        "\nPer point (residuals in standard errors):\n\n| μ_p | I | μ | res μ | φ | res φ |\n"
+        "\nAgainst the published DEM values: μ_s outside the published range by (SE; 0 = "
+        "inside) and φ_c − published φ_c (SE):";
+    for (const InertialLawFit& d : f.dry)
+      md += fmt::format(" μ_p = {:g}: {} and {};", d.particle_friction,
+                        num(d.mu_s_published_deviation(), "{:+.2f}"),
+                        num(d.phi_c_published_deviation(), "{:+.1f}"));
+    md +=
+        "\n\nPer point (residuals in standard errors):\n\n| μ_p | I | μ | res μ | φ | res φ |\n"
         "|---|---|---|---|---|---|\n";
     for (const InertialLawFit& d : f.dry)
       for (std::size_t i = 0; i < d.inertial.size(); ++i)

@@ -68,6 +68,20 @@ struct InertialLawFit {
   double phi_c_err() const { return phi.intercept_err; }
   double a() const { return -phi.slope; }
   double a_err() const { return phi.slope_err; }
+  // Distance of μ_s to the published range in its SE (0 inside), and φ_c − published φ_c in SE
+  // (NaN without published values).
+  double mu_s_published_deviation() const {
+    const auto pub = published_dem_law(particle_friction);
+    if (!pub) return NAN;
+    const double m = mu_s();
+    return m < pub->mu_s_low    ? (m - pub->mu_s_low) / mu_s_err()
+           : m > pub->mu_s_high ? (m - pub->mu_s_high) / mu_s_err()
+                                : 0.0;
+  }
+  double phi_c_published_deviation() const {
+    const auto pub = published_dem_law(particle_friction);
+    return pub ? (phi_c() - pub->phi_c) / phi_c_err() : NAN;
+  }
 };
 
 // Fits the points with finite I, μ, φ and positive error bars (a failed sweep point is NaN and

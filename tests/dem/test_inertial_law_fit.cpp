@@ -68,6 +68,14 @@ TEST(DemInertialLawFit, ExactDataGiveTheParametersBack) {
   EXPECT_NEAR(f.a(), a, 1e-10);
   EXPECT_LT(f.mu.chi2, 1e-12);
   EXPECT_EQ(f.mu.dof, 5);
+  // μ_s = 0.36 lies in Chialvo et al.'s 0.35-0.38 and φ_c on their 0.587: zero deviations
+  // (φ_c exact to round-off over its SE of ~1e-3).
+  EXPECT_EQ(f.mu_s_published_deviation(), 0.0);
+  EXPECT_NEAR(f.phi_c_published_deviation(), 0.0, 1e-9);
+  // The same data labelled frictionless: μ_s = 0.36 is far above Peyneau & Roux's 0.10.
+  const InertialLawFit g = fit_inertial_law(0.0, sweep_inertial, mu, mue, phi, phie);
+  EXPECT_NEAR(g.mu_s_published_deviation(), (0.36 - 0.10) / g.mu_s_err(), 1e-6 / g.mu_s_err());
+  EXPECT_LT(g.phi_c_published_deviation(), -10.0);  // 0.587 vs 0.639, SE ~1e-3
   EXPECT_EQ(friction_label(0.5), "mu_p_0p5");
   EXPECT_EQ(friction_label(0.0), "frictionless");
 }
