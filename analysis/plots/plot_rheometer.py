@@ -5,8 +5,9 @@ Usage: plot_rheometer.py RUN_DIR [OTHER_RUN_DIR ...]
   rheometer_averages.png  tau vs sigma_G and tau vs gamma (all runs given, plus the sibling
                           rheometer runs found next to RUN_DIR)
   rheometer_steady.png    steady tau vs averaged shear rate, one point per run
-  rheometer_profiles.png  radial profiles of gamma and v_theta at several times (uniform-shear
-                          v_theta dashed)
+  rheometer_profiles.png  radial profiles of gamma, v_theta (uniform-shear dashed), tau_rtheta
+                          (quasi-static 1/r^2 dotted), porosity and r_c at several times;
+                          fluidized fraction of the inner/middle/outer crowns against time
   rheometer_fields.png    r_c and porosity of the solid points at several times
   rheometer_history.png   mean pore pressure, mixture volume, fluidized fraction, std of n, T
 """
@@ -35,7 +36,7 @@ def is_rheometer(run):
 
 def load(run):
     with h5py.File(os.path.join(run, "result.h5"), "r") as h5:
-        s = {k: h5["series"][k][:] for k in h5["series"].keys()}
+        s = {k: v[:] for k, v in h5["series"].items() if isinstance(v, h5py.Dataset)}
         vmax = float(h5["series"].attrs["max_velocity"])
     try:
         with open(os.path.join(run, "summary.json")) as f:
@@ -76,26 +77,48 @@ def profiles(run):
             return
         r1 = h5["series"].attrs["inner_radius"]
         r2 = h5["series"].attrs["outer_radius"]
-        fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+        fig, axes = plt.subplots(2, 3, figsize=(15, 8))
+        axes = axes.ravel()
         for key in sorted(h5["profiles"].keys(), key=int):
             g = h5["profiles"][key]
             t = g.attrs["time"]
             vw = g.attrs["wall_velocity"]
-            line, = axes[0].plot(g["radius"][:], g["shear_strain"][:], "-", label=f"t = {t*1e3:.3g} ms")
-            axes[1].plot(g["radius"][:], g["velocity"][:], "-", color=line.get_color(),
-                         label=f"t = {t*1e3:.3g} ms")
+            label = f"t = {t*1e3:.3g} ms"
+            line, = axes[0].plot(g["radius"][:], g["shear_strain"][:], "-", label=label)
+            col = line.get_color()
+            axes[1].plot(g["radius"][:], g["velocity"][:], "-", color=col, label=label)
             rr = np.linspace(r1, r2, 50)
             # uniform shear (rigid-free Couette of a Newtonian fluid): v = A r + B / r
             A = vw * r2 / (r2 * r2 - r1 * r1)
-            axes[1].plot(rr, A * (rr - r1 * r1 / rr), "--", color=line.get_color(), lw=0.8)
+            axes[1].plot(rr, A * (rr - r1 * r1 / rr), "--", color=col, lw=0.8)
+            if "porosity" not in g:  # runs made before these profiles existed
+                continue
+            tau = g["shear_stress"][:]
+            axes[2].plot(g["radius"][:], tau / 1e3, "-", color=col, label=label)
+            # quasi-static torque balance: τ r² uniform (dotted, through the mean of τ r²)
+            c = np.mean(tau * g["radius"][:] ** 2)
+            axes[2].plot(rr, c / rr**2 / 1e3, ":", color=col, lw=0.8)
+            axes[3].plot(g["radius"][:], g["porosity"][:], "-", color=col, label=label)
+            axes[4].plot(g["radius"][:], g["locus_size"][:] / 1e3, "-", color=col, label=label)
+        if "crowns" in h5:  # crown means, sampled with /series/time
+            t = h5["series"]["time"][:] * 1e3
+            for name, style in (("inner", "-"), ("middle", "--"), ("outer", ":")):
+                c = h5["crowns"][name]
+                axes[5].plot(t, c["fluidized_fraction"][:], style,
+                             label=f"{name} crown, r_c = 0 fraction")
         axes[0].set(xlabel="r [m]", ylabel="θ-averaged γ", title="shear strain")
         axes[1].set(xlabel="r [m]", ylabel="θ-averaged v_θ [m/s]",
                     title="velocity (dashed: uniform shear)")
+        axes[2].set(xlabel="r [m]", ylabel="θ-averaged σ'_rθ [kPa]",
+                    title="shear stress (dotted: quasi-static τ ∝ 1/r²)")
+        axes[3].set(xlabel="r [m]", ylabel="θ-averaged n", title="porosity")
+        axes[4].set(xlabel="r [m]", ylabel="θ-averaged r_c [kPa]", title="locus size r_c")
+        axes[5].set(xlabel="t [ms]", ylabel="fraction", title="fluidization of the crowns")
         for a in axes:
             a.legend(fontsize=7)
             a.grid(alpha=0.3)
         fig.tight_layout()
-        fig.savefig(os.path.join(run, "rheometer_profiles.png"), dpi=120)
+        fig.savefig(os.path.join(run, "rheometer_profiles.png"), dpi=110)
         plt.close(fig)
 
 

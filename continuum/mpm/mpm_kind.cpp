@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "continuum/model/closures.hpp"
@@ -544,7 +546,6 @@ int run_column(core::RunContext& ctx) {
   return core::exit_ok;
 }
 
-
 // ---- rheometer (issue 8; docs/rheometer.md) ----------------------------------------------------
 
 core::Schema rheometer_schema() {
@@ -675,8 +676,25 @@ int run_rheometer(core::RunContext& ctx) {
   std::sort(profile_times.begin(), profile_times.end());
   const int bins = static_cast<int>(c.integer("run.profile_bins"));
   std::vector<double> t_s, tau_s, sg_s, gam_s, rate_s, vol_s, pw_s, nstd_s, fl_s, tmean_s;
+  // Crowns (inner r < R_in + L/3, middle, outer r > R_out − L/3): where strain starts, which
+  // crown compacts, which fluidizes first (seed Figs. 4-6; docs/rheometer.md).
+  constexpr int crowns = 3;
+  std::array<std::vector<double>, crowns> crown_gamma, crown_n, crown_rc, crown_fluid;
+  RheometerProfiles at_peak;
+  double tau_max = -std::numeric_limits<double>::infinity();
   auto sample = [&]() {
     const RheometerAverages a = rheometer_averages(s, *rh.material, gamma);
+    const RheometerProfiles cr = rheometer_profiles(s, *rh.material, spec, gamma, crowns);
+    for (int k = 0; k < crowns; ++k) {
+      crown_gamma[k].push_back(cr.shear_strain[k]);
+      crown_n[k].push_back(cr.porosity[k]);
+      crown_rc[k].push_back(cr.locus_size[k]);
+      crown_fluid[k].push_back(cr.fluidized_fraction[k]);
+    }
+    if (a.shear_stress > tau_max) {
+      tau_max = a.shear_stress;
+      at_peak = cr;
+    }
     double T = 0;
     for (double v : s.solid().temperature) T += v;
     t_s.push_back(s.time());
@@ -692,12 +710,16 @@ int run_rheometer(core::RunContext& ctx) {
   };
   std::size_t next_profile = 0;
   auto profile = [&]() {
-    std::vector<double> r, g, v;
-    rheometer_profiles(s, spec, gamma, bins, r, g, v);
+    const RheometerProfiles pr = rheometer_profiles(s, *rh.material, spec, gamma, bins);
     const std::string grp = fmt::format("/profiles/{}", next_profile);
-    ctx.result.write(grp + "/radius", r, "m", "bin centre radius");
-    ctx.result.write(grp + "/shear_strain", g, "1", "θ-averaged accumulated γ_rθ");
-    ctx.result.write(grp + "/velocity", v, "m/s", "θ-averaged solid v_θ");
+    ctx.result.write(grp + "/radius", pr.radius, "m", "bin centre radius");
+    ctx.result.write(grp + "/shear_strain", pr.shear_strain, "1", "θ-averaged accumulated γ_rθ");
+    ctx.result.write(grp + "/velocity", pr.velocity, "m/s", "θ-averaged solid v_θ");
+    ctx.result.write(grp + "/shear_stress", pr.shear_stress, "Pa", "θ-averaged solid σ'_rθ");
+    ctx.result.write(grp + "/porosity", pr.porosity, "1", "θ-averaged porosity n");
+    ctx.result.write(grp + "/locus_size", pr.locus_size, "Pa", "θ-averaged r_c");
+    ctx.result.write(grp + "/fluidized_fraction", pr.fluidized_fraction, "1",
+                     "volume fraction with r_c below fluidization");
     ctx.result.attribute(grp, "time", s.time());
     const double vt = std::min(spec.max_velocity, spec.acceleration * s.time());
     ctx.result.attribute(grp, "wall_velocity", vt);
@@ -723,8 +745,8 @@ int run_rheometer(core::RunContext& ctx) {
       progress.update(s.time());
     }
   } catch (const SolverFailure& f) {
-    throw core::NumericalFailure(f.step >= 0 ? f.step : s.steps() + 1, f.point, f.variable,
-                                 f.value, f.what());
+    throw core::NumericalFailure(f.step >= 0 ? f.step : s.steps() + 1, f.point, f.variable, f.value,
+                                 f.what());
   }
   progress.finish();
   const double wall =
@@ -740,6 +762,14 @@ int run_rheometer(core::RunContext& ctx) {
   ctx.result.write("/series/porosity_std", nstd_s, "1", "standard deviation of n");
   ctx.result.write("/series/fluidized_fraction", fl_s, "1", "volume fraction with r_c = 0");
   ctx.result.write("/series/temperature", tmean_s, "m^2/s^2", "mean T of the solid points");
+  const char* crown_name[crowns] = {"inner", "middle", "outer"};
+  for (int k = 0; k < crowns; ++k) {
+    const std::string g = fmt::format("/crowns/{}", crown_name[k]);  // on /series/time
+    ctx.result.write(g + "/shear_strain", crown_gamma[k], "1", "crown mean of γ_rθ");
+    ctx.result.write(g + "/porosity", crown_n[k], "1", "crown mean of n");
+    ctx.result.write(g + "/locus_size", crown_rc[k], "Pa", "crown mean of r_c");
+    ctx.result.write(g + "/fluidized_fraction", crown_fluid[k], "1", "crown fraction r_c = 0");
+  }
   ctx.result.attribute("/series", "max_velocity", spec.max_velocity);
   ctx.result.attribute("/series", "inner_radius", spec.inner_radius);
   ctx.result.attribute("/series", "outer_radius", spec.outer_radius);
@@ -756,8 +786,8 @@ int run_rheometer(core::RunContext& ctx) {
     ++m;
   }
   m = std::max(m, 1);
-  const std::size_t ipeak = static_cast<std::size_t>(
-      std::max_element(tau_s.begin(), tau_s.end()) - tau_s.begin());
+  const std::size_t ipeak =
+      static_cast<std::size_t>(std::max_element(tau_s.begin(), tau_s.end()) - tau_s.begin());
   const double vmax_dev = [&]() {
     double d = 0;
     for (double v : vol_s) d = std::max(d, std::fabs(v - vol_s.front()) / vol_s.front());
@@ -782,6 +812,27 @@ int run_rheometer(core::RunContext& ctx) {
   sum.set("porosity.std.final", nstd_s.back());
   sum.set("volume.mixture_rel_change_max", vmax_dev);
   sum.set("pore_pressure.mean_rel_change", pw_dev);
+  // Loading regime: τ* / τ̄_peak > 1 means the ring acceleration's inertia outweighs the 1/r²
+  // concentration at the peak (the outer ring is the more loaded), < 1 the quasi-static regime.
+  const double tau_star = inertial_shear_stress(spec);
+  sum.set("loading.inertial_stress", tau_star);
+  sum.set("loading.inertia_ratio", tau_star / std::max(tau_s[ipeak], 1e-300));
+  for (int k = 0; k < crowns; k += 2) {
+    const std::string name = crown_name[k];
+    sum.set("peak.gamma_" + name, at_peak.shear_strain[k]);
+    sum.set("final.gamma_" + name, crown_gamma[k].back());
+    sum.set("final.porosity_" + name, crown_n[k].back());
+    sum.set("final.locus_size_" + name, crown_rc[k].back());
+    // first time half of the crown has r_c = 0 (−1: never)
+    double t_half = -1.0;
+    for (std::size_t i = 0; i < crown_fluid[k].size(); ++i)
+      if (crown_fluid[k][i] >= 0.5) {
+        t_half = t_s[i];
+        break;
+      }
+    sum.set("time.fluidized_" + name, t_half);
+  }
+  sum.set("final.porosity_middle", crown_n[1].back());
   sum.set("rheometer.max_velocity", spec.max_velocity);
   sum.set("rheometer.clamped_updates", static_cast<double>(rh.material->clamped_updates()));
   sum.set("pore_pressure.mean_final", pw_s.back());

@@ -101,30 +101,54 @@ RheometerAverages rheometer_averages(const Solver& solver, const MultiRegimeMate
   return a;
 }
 
-void rheometer_profiles(const Solver& solver, const RheometerSpec& spec,
-                        const std::vector<double>& gamma, int bins, std::vector<double>& radius,
-                        std::vector<double>& g_out, std::vector<double>& v_out) {
+RheometerProfiles rheometer_profiles(const Solver& solver, const MultiRegimeMaterial& material,
+                                     const RheometerSpec& spec, const std::vector<double>& gamma,
+                                     int bins) {
   const SolidPoints& sp = solver.solid();
   const double R1 = spec.inner_radius, dr = (spec.outer_radius - R1) / bins;
+  const double fluid_rc = material.point().settings().force_chains
+                              ? material.point().settings().force_chain_parameters.fluidization_size
+                              : 0.0;
   std::vector<double> w(bins, 0.0);
-  radius.assign(bins, 0.0);
-  g_out.assign(bins, 0.0);
-  v_out.assign(bins, 0.0);
+  RheometerProfiles out;
+  for (auto* v : {&out.radius, &out.shear_strain, &out.velocity, &out.shear_stress, &out.porosity,
+                  &out.locus_size, &out.fluidized_fraction})
+    v->assign(bins, 0.0);
   for (std::size_t p = 0; p < sp.size(); ++p) {
     const double r = std::hypot(sp.x[p], sp.y[p]);
+    const double c = sp.x[p] / r, s = sp.y[p] / r;
     const int b = std::clamp(static_cast<int>((r - R1) / dr), 0, bins - 1);
-    const double vt = (-sp.vx[p] * sp.y[p] + sp.vy[p] * sp.x[p]) / r;
-    w[b] += sp.volume[p];
-    g_out[b] += sp.volume[p] * (p < gamma.size() ? gamma[p] : 0.0);
-    v_out[b] += sp.volume[p] * vt;
-  }
-  for (int b = 0; b < bins; ++b) {
-    radius[b] = R1 + (b + 0.5) * dr;
-    if (w[b] > 0) {
-      g_out[b] /= w[b];
-      v_out[b] /= w[b];
+    const double V = sp.volume[p];
+    w[b] += V;
+    out.shear_strain[b] += V * (p < gamma.size() ? gamma[p] : 0.0);
+    out.velocity[b] += V * (-sp.vx[p] * s + sp.vy[p] * c);
+    out.shear_stress[b] += V * ((sp.syy[p] - sp.sxx[p]) * c * s + sp.sxy[p] * (c * c - s * s));
+    out.porosity[b] += V * sp.porosity[p];
+    if (p >= material.begin() && p < material.end()) {
+      const double rc = material.locus_size()[p - material.begin()];
+      out.locus_size[b] += V * rc;
+      if (rc < fluid_rc) out.fluidized_fraction[b] += V;
     }
   }
+  for (int b = 0; b < bins; ++b) {
+    out.radius[b] = R1 + (b + 0.5) * dr;
+    if (w[b] > 0)
+      for (auto* v : {&out.shear_strain, &out.velocity, &out.shear_stress, &out.porosity,
+                      &out.locus_size, &out.fluidized_fraction})
+        (*v)[b] /= w[b];
+  }
+  return out;
+}
+
+double inertial_shear_stress(const RheometerSpec& spec) {
+  const double R1 = spec.inner_radius, R2 = spec.outer_radius;
+  const double nu = 1.0 / (1.0 + spec.void_ratio);
+  const double rho = nu * spec.model.collisional_parameters.particle_density +
+                     (1.0 - nu) * spec.model.liquid_parameters.density;
+  // ∫ r² (r − R1) dr over [R1, R2]
+  const double moment =
+      (std::pow(R2, 4) - std::pow(R1, 4)) / 4.0 - R1 * (std::pow(R2, 3) - std::pow(R1, 3)) / 3.0;
+  return rho * spec.acceleration * moment / ((R2 - R1) * (R2 * R2 - R1 * R1));
 }
 
 }  // namespace granflow::mpm

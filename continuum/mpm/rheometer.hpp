@@ -57,10 +57,30 @@ void accumulate_shear_strain(const Solver& solver, std::vector<double>& shear_st
 RheometerAverages rheometer_averages(const Solver& solver, const MultiRegimeMaterial& material,
                                      const std::vector<double>& shear_strain);
 
-// Radial profiles over `bins` equal rings: θ-averaged γ and v_θ of the solid points.
-void rheometer_profiles(const Solver& solver, const RheometerSpec& spec,
-                        const std::vector<double>& shear_strain, int bins,
-                        std::vector<double>& radius, std::vector<double>& gamma,
-                        std::vector<double>& velocity);
+// θ-averaged radial profiles of the solid points over `bins` equal rings (volume weighted);
+// with bins = 3 the rings are the inner, middle and outer crowns of docs/rheometer.md.
+struct RheometerProfiles {
+  std::vector<double> radius;              // bin centre, m
+  std::vector<double> shear_strain;        // accumulated γ_rθ
+  std::vector<double> velocity;            // v_θ of the solid, m/s
+  std::vector<double> shear_stress;        // σ'_rθ of the solid phase, Pa
+  std::vector<double> porosity;            // n
+  std::vector<double> locus_size;          // r_c, Pa
+  std::vector<double> fluidized_fraction;  // volume fraction with r_c below fluidization
+};
+RheometerProfiles rheometer_profiles(const Solver& solver, const MultiRegimeMaterial& material,
+                                     const RheometerSpec& spec,
+                                     const std::vector<double>& shear_strain, int bins);
+
+// Inertia of the imposed ring acceleration against the strength of the skeleton (docs/
+// rheometer.md, "Where strain starts"). Torque balance of the annulus, d(τ r²)/dr = ρ r² a_θ(r),
+// with the mixture moving together (drag relaxation ≪ 1 ms) and the acceleration profile of
+// uniform shear a_θ = a (r − R_in)/(R_out − R_in):
+//   τ_out R_out² − τ_in R_in² = ρ a [(R_out⁴ − R_in⁴)/4 − R_in (R_out³ − R_in³)/3] / (R_out − R_in)
+// so the inner ring carries the larger shear stress (the quasi-static τ ∝ 1/r² picture of the
+// seed) only while τ_in exceeds
+//   τ* = ρ a [(R_out⁴ − R_in⁴)/4 − R_in (R_out³ − R_in³)/3] / ((R_out − R_in)(R_out² − R_in²)).
+// Returns τ* in Pa for the mixture density ρ = ν ρ_p + (1 − ν) ρ_L at e0.
+double inertial_shear_stress(const RheometerSpec& spec);
 
 }  // namespace granflow::mpm
