@@ -3,12 +3,14 @@
 
 Runs the granflow-dem driver on a self-contained Lees-Edwards shear deck (the study's case:
 13^3 = 2197 bidisperse 0.9/1.1 mm Hertz spheres, compressed to phi = 0.55, sheared at 50 1/s,
-dt = 4e-6 s), once dry and once with `fix fluid/le` (drag + rotation + normal and tangential
-lubrication, eta = 0.01 Pa s, h_max = 50 um, h_min = 1 um), on 1 and 2 MPI ranks, and reads the
-shear-stage wall time (driver_stats.tsv: liggghts_s, the LIGGGHTS part of the shear stage).
+dt = 4e-6 s), dry, with `fix fluid/le` (drag + rotation + normal and tangential lubrication,
+eta = 0.01 Pa s, h_max = 50 um, h_min = 1 um), and with the same fix and `reach skin`, on 1 and
+2 MPI ranks, and reads the shear-stage wall time (driver_stats.tsv: liggghts_s, the LIGGGHTS
+part of the shear stage).
 
 usage: bench/dem_fluid_bench.py BUILD_DIR [--steps N] [--repeat R] [--out DIR] [--breakdown]
-Prints a markdown table (s per 1000 steps; wet/dry ratio; speed-up) for docs/performance.md#dem_fluid.
+Prints a markdown table (s per 1000 steps; wet/dry ratio; speed-up) for
+docs/performance.md#dem_fluid.
 --breakdown adds LIGGGHTS' own timing split (Pair / Neigh / Comm / Other, 1 rank, one
 uninterrupted `run` inside the deck) for: dry; dry with the wet neighbour-list reach
 (contact_distance_factor 1.0556 = 1 + h_max/d_small, what fix fluid/le registers); dry with the
@@ -86,10 +88,10 @@ FLUID = ("fix fluid all fluid/le viscosity 0.01 permeability seed_eq26 drag yes 
          "lubrication 5e-5 1e-6 tangential yes")
 
 
-def run(driver, workdir, wet, ranks, steps):
+def run(driver, workdir, fluid, ranks, steps):
     os.makedirs(workdir, exist_ok=True)
     with open(os.path.join(workdir, "in.bench"), "w") as f:
-        f.write(DECK.format(steps=steps, sample=100, fluid=FLUID if wet else ""))
+        f.write(DECK.format(steps=steps, sample=100, fluid=fluid))
     cmd = [driver, "in.bench", "-log", "log.txt", "-screen", "none"]
     env = dict(os.environ)
     if ranks > 1:
@@ -111,6 +113,7 @@ BREAKDOWN = {
     "drag + rotational drag only": DRAG_ONLY,
     "drag + normal lubrication (tangential no)": FLUID.replace("tangential yes", "tangential no"),
     "all fluid forces": FLUID,
+    "all fluid forces, reach skin": FLUID + " reach skin",
 }
 
 
@@ -149,7 +152,7 @@ def breakdown(driver, workdir, steps):
               f"{t['Other']:.3f} | {sum(t.values()):.3f} | "
               f"{'' if pairs is None else f'{pairs:.0f}'} |")
     drag_other = rows[3][1]["Other"]
-    for name, t, pairs in rows[4:]:
+    for name, t, pairs in rows[4:6]:
         print(f"\nlubrication cost, {name}: ({t['Other']:.3f} - {drag_other:.3f}) ms / "
               f"{pairs:.0f} pairs = {(t['Other'] - drag_other) / pairs * 1e6:.1f} ns per pair")
     dry = sum(rows[0][1].values())
@@ -167,20 +170,24 @@ def main():
     a = ap.parse_args()
     driver = os.path.join(os.path.abspath(a.build_dir), "dem_coupling", "granflow-dem")
     out = a.out or tempfile.mkdtemp(prefix="dem_fluid_bench_")
+    cases = {"dry": "", "wet": FLUID, "wet, reach skin": FLUID + " reach skin"}
     t = {}
-    for wet in (False, True):
+    for kind, fluid in cases.items():
         for ranks in (1, 2):
-            name = f"{'wet' if wet else 'dry'}_{ranks}"
-            t[name] = min(run(driver, os.path.join(out, f"{name}_{r}"), wet, ranks, a.steps)
-                          for r in range(a.repeat))
+            name = f"{kind}_{ranks}"
+            tag = kind.replace(", ", "_").replace(" ", "_")
+            t[name] = min(
+                run(driver, os.path.join(out, f"{tag}_{ranks}_{r}"), fluid, ranks, a.steps)
+                for r in range(a.repeat))
             print(f"{name}: {t[name]:.3f} s / 1000 steps", file=sys.stderr)
     print("| case | 1 rank (s/1000 steps) | 2 ranks (s/1000 steps) | 2-rank speed-up |")
     print("|---|---|---|---|")
-    for kind in ("dry", "wet"):
+    for kind in cases:
         print(f"| {kind} | {t[kind + '_1']:.3f} | {t[kind + '_2']:.3f} | "
               f"{t[kind + '_1'] / t[kind + '_2']:.2f} |")
-    print(f"\nwet/dry cost at equal N: 1 rank {t['wet_1'] / t['dry_1']:.2f}, "
-          f"2 ranks {t['wet_2'] / t['dry_2']:.2f}")
+    for kind in list(cases)[1:]:
+        print(f"\n{kind}/dry cost at equal N: 1 rank {t[kind + '_1'] / t['dry_1']:.2f}, "
+              f"2 ranks {t[kind + '_2'] / t['dry_2']:.2f}")
     if a.breakdown:
         breakdown(driver, out, a.steps)
 

@@ -42,7 +42,11 @@ constexpr double pi = std::numbers::pi;
 class FixFluidLE : public LAMMPS_NS::Fix {
  public:
   FixFluidLE(LAMMPS_NS::LAMMPS* lmp, int narg, char** arg);
-  int setmask() override { return LAMMPS_NS::FixConst::POST_FORCE; }
+  int setmask() override {
+    return LAMMPS_NS::FixConst::POST_FORCE |
+           (reach_by_skin_ ? LAMMPS_NS::FixConst::POST_INTEGRATE : 0);
+  }
+  void post_integrate() override;
   void init() override;
   void setup(int vflag) override;
   void post_force(int vflag) override;
@@ -88,6 +92,17 @@ class FixFluidLE : public LAMMPS_NS::Fix {
   std::vector<int> ghost_owner_;
   LAMMPS_NS::bigint ghost_owner_build_ = -1;
   void update_ghost_owners();
+
+  // `reach skin`: the list reach for h_max comes from the skin (raised by h_max when the fix is
+  // created) instead of contact_distance_factor, and the fix forces a rebuild once an atom has
+  // moved half the deck's own skin (less the box corners' motion, as LAMMPS' check), so every
+  // pair with h < h_max stays listed. Positions and box corners at the last build:
+  bool reach_by_skin_ = false;
+  double deck_skin_ = 0.0, raised_skin_ = 0.0;
+  std::vector<double> x_at_build_;
+  double corners_at_build_[8][3] = {};
+  LAMMPS_NS::bigint hold_build_ = -1;
+  void hold_build_positions();
   void lubrication_forces(std::array<double, fluid_le_vector::size>& acc);
 };
 
@@ -159,10 +174,17 @@ FixFluidLE::FixFluidLE(LAMMPS_NS::LAMMPS* lmp, int narg, char** arg) : Fix(lmp, 
         fail("fix fluid/le: lubrication HMAX HMIN needs 0 < HMIN < HMAX (m)");
       settings_.lubrication = true;
       i += 3;
+    } else if (key == "reach") {
+      need(1);
+      const std::string value = arg[i + 1];
+      if (value != "factor" && value != "skin")
+        fail("fix fluid/le: keyword reach expects factor or skin, got " + value);
+      reach_by_skin_ = value == "skin";
+      i += 2;
     } else {
       fail("fix fluid/le: unknown keyword " + key +
            " (expected viscosity, permeability, sphericity, drag, rotation, lubrication, "
-           "tangential)");
+           "tangential, reach)");
     }
   }
   if (!have_viscosity || !have_permeability)
@@ -178,8 +200,15 @@ FixFluidLE::FixFluidLE(LAMMPS_NS::LAMMPS* lmp, int narg, char** arg) : Fix(lmp, 
       if (atom->mask[i] & groupbit) r_min = std::min(r_min, atom->radius[i]);
     double r_min_all = r_min;
     MPI_Allreduce(&r_min, &r_min_all, 1, MPI_DOUBLE, MPI_MIN, world);
-    if (std::isfinite(r_min_all) && r_min_all > 0.0)
+    if (reach_by_skin_) {
+      deck_skin_ = neighbor->skin;
+      raised_skin_ = deck_skin_ + settings_.maximum_gap;
+      neighbor->skin = raised_skin_;
+      force_reneighbor = 1;
+      next_reneighbor = -1;
+    } else if (std::isfinite(r_min_all) && r_min_all > 0.0) {
       neighbor->register_contact_dist_factor(1.0 + settings_.maximum_gap / (2.0 * r_min_all));
+    }
   }
   vector_flag = 1;
   size_vector = vec::size;
@@ -222,6 +251,17 @@ void FixFluidLE::init() {
       fail(
           "fix fluid/le: lubrication HMAX must be below the smallest radius (the near-field "
           "asymptotics and the log(1/h) term need h << r)");
+    if (reach_by_skin_) {
+      // The constructor raised the skin to the deck's + HMAX; post_integrate() keeps pairs with
+      // h < HMAX listed by rebuilding at half the deck's skin.
+      if (std::abs(neighbor->skin - raised_skin_) > 1e-12 * raised_skin_)
+        fail(fmt::format(
+            "fix fluid/le: reach skin: the neighbour skin is {:.6g} m, not the {:.6g} m (deck "
+            "skin {:.6g} + HMAX) the fix set when it was defined: define the fix after the "
+            "'neighbor' command",
+            neighbor->skin, raised_skin_, deck_skin_));
+      return;
+    }
     // The granular list keeps pairs with r < (r_i + r_j) cdf + skin; every pair with
     // h < (r_i + r_j)(cdf - 1) stays listed between rebuilds, so cdf = 1 + HMAX / (2 r_min).
     // The pair style reads the factor in force->init(), before fixes are initialised, so the
@@ -235,6 +275,56 @@ void FixFluidLE::init() {
           "' (1 + HMAX / (2 r_min)) "
           "before the first run");
   }
+}
+
+// Positions of the owned atoms and the box corners at the last neighbour build (`reach skin`).
+void FixFluidLE::hold_build_positions() {
+  const std::size_t n = 3 * std::size_t(atom->nlocal);
+  if (x_at_build_.size() < n) x_at_build_.resize(n + n / 2);  // grows with nlocal only
+  if (n > 0) std::copy(atom->x[0], atom->x[0] + n, x_at_build_.begin());
+  domain->box_corners();
+  for (int c = 0; c < 8; ++c)
+    for (int a = 0; a < 3; ++a) corners_at_build_[c][a] = domain->corners[c][a];
+  hold_build_ = neighbor->ncalls;
+}
+
+// `reach skin`: LAMMPS' Neighbor::check_distance with half the deck's skin instead of half the
+// raised one. Between builds a pair's distance changes by at most twice the largest atom
+// displacement plus the two largest box-corner displacements (ghost images move with the box), so
+// rebuilding before that reaches the deck's skin keeps every pair with h < HMAX in the list built
+// with reach r_i + r_j + deck skin + HMAX. Runs after the position update, before
+// neighbor->decide() reads next_reneighbor.
+void FixFluidLE::post_integrate() {
+  if (!settings_.lubrication || hold_build_ < 0) return;
+  domain->box_corners();
+  double largest = 0.0, second = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    double sq = 0.0;
+    for (int a = 0; a < 3; ++a) {
+      const double d = domain->corners[c][a] - corners_at_build_[c][a];
+      sq += d * d;
+    }
+    const double moved = std::sqrt(sq);
+    if (moved > largest) {
+      second = largest;
+      largest = moved;
+    } else if (moved > second) {
+      second = moved;
+    }
+  }
+  const double trigger = 0.5 * (deck_skin_ - (largest + second));
+  int rebuild = trigger <= 0.0 ? 1 : 0;
+  const double trigger_sq = trigger * trigger;
+  const double* x = atom->x[0];
+  const double* held = x_at_build_.data();
+  const int n = 3 * atom->nlocal;
+  for (int k = 0; k < n && !rebuild; k += 3) {
+    const double dx = x[k] - held[k], dy = x[k + 1] - held[k + 1], dz = x[k + 2] - held[k + 2];
+    rebuild = dx * dx + dy * dy + dz * dz > trigger_sq;
+  }
+  int rebuild_any = rebuild;
+  MPI_Allreduce(&rebuild, &rebuild_any, 1, MPI_INT, MPI_MAX, world);
+  if (rebuild_any) next_reneighbor = update->ntimestep;
 }
 
 FixFluidLE::Flow FixFluidLE::current_flow() const {
@@ -420,6 +510,7 @@ void FixFluidLE::update_ghost_owners() {
 //   3. the log(1/ξ) of the tangential mode, all pairs back to back;
 //   4. forces, torques, virials and dissipation from the velocities.
 void FixFluidLE::lubrication_forces(std::array<double, vec::size>& acc) {
+  if (reach_by_skin_ && hold_build_ != neighbor->ncalls) hold_build_positions();
   const LAMMPS_NS::NeighList* list = force->pair->list;
   const int inum = list->inum;
   const int* ilist = list->ilist;

@@ -3,6 +3,7 @@
 //
 //   fix ID group fluid/le viscosity ETA permeability NAME [sphericity A]
 //       [drag yes|no] [rotation yes|no] [lubrication HMAX HMIN] [tangential yes|no]
+//       [reach factor|skin]
 //
 //   viscosity     η0 of the liquid, Pa s
 //   permeability  drag correlation by the continuum's name (seed_eq26, kozeny_carman, ergun):
@@ -16,12 +17,17 @@
 //                 (default off); needs newton off and `communicate single vel yes`
 //   tangential    the log(1/h) shear-mode lubrication with its torques (default yes when
 //                 lubrication is on)
+//   reach         how pairs with h < HMAX are kept in the granular list: factor (default)
+//                 registers contact_distance_factor >= 1 + HMAX/(2 r_min); skin raises the
+//                 neighbour skin by HMAX and forces a rebuild once an atom has moved half the
+//                 deck's skin (LAMMPS' check, box motion included), so pair gran treats pairs
+//                 outside contact as in a dry run (cheaper; see docs/dem_fluid.md)
 // The fluid velocity is the box's affine (streaming) velocity, as LAMMPS' compute temp/deform:
 // u = L (x - boxlo) + h_ratelo with L = H_rate H⁻¹; for `fix deform 1 xy erate γ̇ remap v` this is
 // u_x = γ̇ (y - ylo) and Ω_z = -γ̇/2. Without fix deform the liquid is at rest.
-// The fix registers neigh_modify contact_distance_factor >= 1 + HMAX/(2 r_min) itself, so the
-// granular pair list holds every pair with h < HMAX, and refuses a time step above the limits
-// of dem_coupling/fixes/fluid_time_step.hpp (naming the limit).
+// With reach factor the fix registers neigh_modify contact_distance_factor >= 1 + HMAX/(2 r_min)
+// itself, so the granular pair list holds every pair with h < HMAX; it refuses a time step above
+// the limits of dem_coupling/fixes/fluid_time_step.hpp (naming the limit).
 //
 // Global vector (f_ID[1..31]; intensive, summed over ranks), stresses in the sign convention of
 // `compute pressure` (P_ab = W_ab / V, compression positive; components xx yy zz xy xz yz, with

@@ -6,6 +6,7 @@
 // integrated independently (RK4) and the driver's gap history must follow it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -210,6 +211,57 @@ TEST(DemFluidLubrication, BadFixArgumentsAreRefusedWithTheExpectedValues) {
     text << log.rdbuf() << r.output;
     EXPECT_NE(text.str().find(expected), std::string::npos) << arguments << "\n" << text.str();
   }
+}
+
+// `reach skin`: the list reach for h_max comes from the skin and the fix forces the rebuilds.
+// Two spheres approach head-on at 1 m/s from a 330 µm gap with a 10 µm deck skin (h_max = 50 µm):
+// LAMMPS' own check on the raised 60 µm skin would rebuild only every 60 µm of approach (at gaps
+// 330, 270, ..., 90, 30 µm) and miss the pair for 50 > h > 30 µm (checked: 160 failures); the fix's
+// check at half the deck skin must list it as soon as h < h_max, and the gap history (approach,
+// lubrication, Hertz bounce) must be the one of the default reach through contact_distance_factor.
+std::vector<std::vector<double>> run_approach(const std::string& name, const std::string& reach) {
+  const std::string deck =
+      deck_preamble("region box block 0 0.01 0 0.01 0 0.01 units box\ncreate_box 1 box", 1e-7) +
+      fmt::format(R"(neighbor        0.00001 bin
+create_atoms    1 single 0.004335 0.005 0.005 units box
+create_atoms    1 single 0.005665 0.005 0.005 units box
+set             group all diameter 0.001 density 2500
+group           a id 1
+group           b id 2
+velocity        a set 0.5 0 0
+velocity        b set -0.5 0 0
+fix             integr all nve/sphere
+fix             fl all fluid/le viscosity 0.01 permeability seed_eq26 drag no rotation no lubrication 5e-5 1e-6 {reach}
+variable        gap equal x[2]-x[1]-0.001
+variable        pairs equal f_fl[27]
+fix             out all print 10 "${{gap}} ${{pairs}}" file gap.txt screen no
+run             4000
+)",
+                  fmt::arg("reach", reach));
+  const RunResult r = run_deck(test_dir(name), deck, 1);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  return read_table(test_dir(name) / "gap.txt");
+}
+
+TEST(DemFluidLubrication, ReachBySkinListsEveryPairWithinHmax) {
+  const auto factor = run_approach("approach_factor", "");
+  const auto skin = run_approach("approach_skin", "reach skin");
+  ASSERT_EQ(factor.size(), 400u);  // steps 10, 20, ..., 4000
+  ASSERT_EQ(skin.size(), factor.size());
+  int lubricated_samples = 0;
+  double closest = 1.0;
+  for (std::size_t k = 0; k < skin.size(); ++k) {
+    const double gap = skin[k][0];
+    closest = std::min(closest, gap);
+    // one pair exactly while h < h_max (the force is zero from h_max on), in both modes
+    EXPECT_EQ(skin[k][1], gap < 5e-5 ? 1.0 : 0.0) << "gap " << gap;
+    EXPECT_EQ(factor[k][1], skin[k][1]) << "gap " << gap;
+    lubricated_samples += gap < 5e-5;
+    // the same forces in the same order: round-off of the positions (1e-3 m) only, 1e-15 m
+    EXPECT_NEAR(skin[k][0], factor[k][0], 1e-15) << "sample " << k;
+  }
+  EXPECT_GT(lubricated_samples, 20);  // the pair was lubricated for a while...
+  EXPECT_LT(closest, 0.0);            // ...and the spheres collided (Hertz overlap)
 }
 
 }  // namespace
