@@ -42,6 +42,9 @@ constexpr double pi = std::numbers::pi;
 class FixFluidLE : public LAMMPS_NS::Fix {
  public:
   FixFluidLE(LAMMPS_NS::LAMMPS* lmp, int narg, char** arg);
+  ~FixFluidLE() override {  // `unfix` gives the deck its own skin back (reach skin)
+    if (reach_by_skin_ && neighbor->skin == raised_skin_) neighbor->skin = deck_skin_;
+  }
   int setmask() override {
     return LAMMPS_NS::FixConst::POST_FORCE |
            (reach_by_skin_ ? LAMMPS_NS::FixConst::POST_INTEGRATE : 0);
