@@ -310,6 +310,7 @@ void lead_conditions(RunContext& ctx, std::size_t count, const ComputeCondition&
   std::map<std::size_t, Outcome> done;
   std::future<Outcome> local;
   bool local_busy = false;
+  std::vector<char> released_rank(static_cast<std::size_t>(size), 0);
   int released = 0;  // other ranks sent `end` (or gone) in this sweep
   std::exception_ptr failure;
   log.info("{} conditions on {} MPI ranks (rank 0 computes too; dynamic queue)", count, size);
@@ -328,15 +329,18 @@ void lead_conditions(RunContext& ctx, std::size_t count, const ComputeCondition&
                          run_directory, 0);
       local_busy = active = true;
     }
-    MPI_Status status;
-    while (probe(MPI_ANY_SOURCE, status)) {
+    // One rank at a time, and only ranks still in this sweep: a rank released here goes on to
+    // say `leaving` (MpiRanks::leave_run), a message for the end of the run, not for this loop.
+    for (int from = 1; from < size; ++from) {
+      MPI_Status status;
+      if (released_rank[from] || !probe(from, status)) continue;
       active = true;
-      const int from = status.MPI_SOURCE;
-      const std::string bytes = receive(status);
-      if (status.MPI_TAG == tag_leaving) {
+      if (status.MPI_TAG == tag_leaving) {  // gone without asking (it stopped before the sweep):
+        released_rank[from] = 1;            // leave_run receives the message
         ++released;
         continue;
       }
+      const std::string bytes = receive(status);
       if (status.MPI_TAG == tag_result) {
         Outcome o = Outcome::unpack(bytes);
         finished(o);
@@ -350,6 +354,7 @@ void lead_conditions(RunContext& ctx, std::size_t count, const ComputeCondition&
             from, tag_work);
       } else {
         send("", from, tag_end);
+        released_rank[from] = 1;
         ++released;
       }
     }
