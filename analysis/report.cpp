@@ -1,11 +1,13 @@
 #include "analysis/report.hpp"
 
 #include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -122,7 +124,16 @@ void pair_section(std::ostream& md, const core::Summary& s) {
 std::string dem_section(const std::filesystem::path& run_dir, core::Summary& s) {
   const auto result = run_dir / "result.h5";
   if (!std::filesystem::exists(result)) return "";
-  const dem::DemSteadyTable table = dem::read_dem_steady_table(result);
+  // strain.total of the case: a sweep without /steady (running or interrupted) is read from
+  // /conditions/N, and a condition that stopped before it is left out.
+  double total_strain = std::numeric_limits<double>::quiet_NaN();
+  try {
+    const YAML::Node node = YAML::LoadFile((run_dir / "case.yaml").string());
+    if (node["strain"] && node["strain"]["total"])
+      total_strain = node["strain"]["total"].as<double>();
+  } catch (const std::exception&) {
+  }
+  const dem::DemSteadyTable table = dem::read_dem_steady_table(result, total_strain);
   if (table.rows() < 2) return "";  // a single condition: nothing to fit
   const dem::DemFits fits = dem::compute_dem_fits(table);
   {
@@ -166,13 +177,16 @@ std::string dem_section(const std::filesystem::path& run_dir, core::Summary& s) 
 
 std::filesystem::path write_report(const std::filesystem::path& run_dir) {
   const auto summary_file = run_dir / "summary.json";
-  if (!std::filesystem::exists(summary_file))
+  const auto case_file = run_dir / "case.yaml";
+  const std::string kind = case_value(case_file, "kind");
+  // An interrupted DEM sweep has result.h5 but no summary.json yet: its fits are still derived.
+  const bool interrupted_dem = kind == "dem" && std::filesystem::exists(run_dir / "result.h5");
+  if (!std::filesystem::exists(summary_file) && !interrupted_dem)
     throw std::runtime_error(
         fmt::format("{}: no summary.json; expected the directory of a finished granflow run",
                     run_dir.string()));
-  core::Summary s = core::Summary::read(summary_file);
-  const auto case_file = run_dir / "case.yaml";
-  const std::string kind = case_value(case_file, "kind");
+  core::Summary s =
+      std::filesystem::exists(summary_file) ? core::Summary::read(summary_file) : core::Summary();
   std::string name = case_value(case_file, "name");
   if (name.empty()) name = run_dir.filename().string();
   const std::string description = case_value(case_file, "description");

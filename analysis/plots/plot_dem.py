@@ -68,6 +68,66 @@ def friction_fits(h5):
     return out
 
 
+# /conditions/N/steady attribute of each /steady column (docs/dem_dataset.md).
+CONDITION_ATTRS = {
+    "inertial_number": "I", "inertial_number_err": "I_err", "friction": "mu",
+    "friction_err": "mu_err", "solid_fraction": "phi", "solid_fraction_err": "phi_err",
+    "scaled_temperature": "T_scaled", "granular_temperature": "T",
+    "granular_temperature_err": "T_err", "viscous_number": "J", "viscous_number_err": "J_err",
+    "mixed_number": "K", "mixed_number_err": "K_err", "stokes_number": "St",
+    "shear_stress": "tau", "shear_stress_contact": "tau_contact",
+    "shear_stress_contact_err": "tau_contact_err", "shear_stress_lubrication": "tau_lub",
+    "shear_stress_lubrication_err": "tau_lub_err", "shear_stress_drag": "tau_drag",
+    "shear_stress_drag_err": "tau_drag_err", "shear_stress_kinetic": "tau_kin",
+    "shear_stress_kinetic_err": "tau_kin_err"}
+
+
+class ConditionTable:
+    """/steady-like columns of a sweep that has not written /steady (running or interrupted),
+    from /conditions/N/steady; a condition that stopped before strain.total is NaN."""
+
+    def __init__(self, run, h5):
+        total = np.nan
+        try:
+            import yaml
+            with open(os.path.join(run, "case.yaml")) as f:
+                total = float(yaml.safe_load(f)["strain"]["total"])
+        except Exception:  # noqa: BLE001 - no case file: keep every condition
+            pass
+        conds = sorted(h5["conditions"].keys(), key=int)
+        self.columns = {name: np.full(len(conds), np.nan) for name in CONDITION_ATTRS}
+        self.columns["particle_friction"] = np.full(len(conds), np.nan)
+        self.wet = False
+        for k, n in enumerate(conds):
+            g = h5["conditions"][n]
+            self.columns["particle_friction"][k] = g.attrs.get("particle_friction", np.nan)
+            self.wet = self.wet or "viscosity" in g.attrs
+            if "steady" not in g:
+                continue
+            a = g["steady"].attrs
+            if np.isfinite(total) and a.get("end_strain", 0.0) < 0.98 * total:
+                continue
+            for name, key in CONDITION_ATTRS.items():
+                self.columns[name][k] = a.get(key, np.nan)
+        self.attrs = {}
+        if "fits/mixed_number" in h5:
+            self.attrs["fitted_alpha"] = h5["fits/mixed_number"].attrs["alpha"]
+
+    def __getitem__(self, name):
+        return self.columns[name]
+
+    def __contains__(self, name):
+        return name in self.columns and (self.wet or name not in ("viscous_number",))
+
+
+def steady_table(run, h5):
+    if "steady" in h5 and "friction" in h5["steady"]:
+        return h5["steady"]
+    if "conditions" in h5:
+        return ConditionTable(run, h5)
+    return None
+
+
 def point_plots(run, h5, n):
     g = h5[f"conditions/{n}"]
     if "series" not in g:
@@ -113,8 +173,7 @@ def point_plots(run, h5, n):
         plt.close(fig)
 
 
-def sweep_plots(run, h5):
-    s = h5["steady"]
+def sweep_plots(run, h5, s):
     I, Ie = s["inertial_number"][:], s["inertial_number_err"][:]
     mu, mue = s["friction"][:], s["friction_err"][:]
     phi, phie = s["solid_fraction"][:], s["solid_fraction_err"][:]
@@ -181,8 +240,7 @@ def sweep_plots(run, h5):
     plt.close(fig)
 
 
-def wet_sweep_plots(run, h5):
-    s = h5["steady"]
+def wet_sweep_plots(run, h5, s):
     J, Je = s["viscous_number"][:], s["viscous_number_err"][:]
     K, Ke = s["mixed_number"][:], s["mixed_number_err"][:]
     I, Ie = s["inertial_number"][:], s["inertial_number_err"][:]
@@ -277,10 +335,11 @@ def main():
         if "conditions" in h5:
             for n in sorted(h5["conditions"].keys(), key=int):
                 point_plots(run, h5, n)
-        if "steady" in h5 and h5["steady/friction"].shape[0] > 1:
-            sweep_plots(run, h5)
-            if "viscous_number" in h5["steady"]:
-                wet_sweep_plots(run, h5)
+        s = steady_table(run, h5)
+        if s is not None and s["friction"][:].shape[0] > 1:
+            sweep_plots(run, h5, s)
+            if "viscous_number" in s:
+                wet_sweep_plots(run, h5, s)
 
 
 if __name__ == "__main__":

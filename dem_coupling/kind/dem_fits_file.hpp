@@ -48,11 +48,77 @@ inline double number_attribute(H5::H5Object& object, const std::string& name) {
 
 }  // namespace fits_file_detail
 
+// τ_part/σ_yy of condition group g from its series over its recorded steady part.
+inline StressRatio series_stress_ratio(H5::H5File& f, const std::string& g, const char* part) {
+  using namespace fits_file_detail;
+  if (!path_exists(f, g + "/series/" + part) || !path_exists(f, g + "/steady")) return {};
+  H5::Group steady = f.openGroup(g + "/steady");
+  const double start_strain = number_attribute(steady, "start_strain");
+  const auto strain = read(f, g + "/series/strain");
+  const std::size_t start = static_cast<std::size_t>(
+      std::lower_bound(strain.begin(), strain.end(), start_strain - 1e-12) - strain.begin());
+  return stress_ratio_of_series(read(f, g + "/series/" + part), read(f, g + "/series/sigma_yy"),
+                                start);
+}
+
+// A sweep that has not written /steady yet (still running, or interrupted): one row per
+// /conditions/N from its steady attributes. A condition whose steady part ends before
+// `total_strain` (× 0.98) did not finish (killed or failed): its row is NaN.
+inline DemSteadyTable steady_table_from_conditions(H5::H5File& f, double total_strain) {
+  using namespace fits_file_detail;
+  DemSteadyTable t;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t n = 0; path_exists(f, fmt::format("/conditions/{}", n)); ++n) {
+    const std::string g = fmt::format("/conditions/{}", n);
+    H5::Group group = f.openGroup(g);
+    const bool wet = group.attrExists("viscosity");
+    t.wet = t.wet || wet;
+    t.particle_friction.push_back(number_attribute(group, "particle_friction"));
+    double v[6] = {nan, nan, nan, nan, nan, nan};
+    double w[5] = {nan, nan, nan, nan, nan};
+    if (path_exists(f, g + "/steady")) {
+      H5::Group steady = f.openGroup(g + "/steady");
+      const double end = number_attribute(steady, "end_strain");
+      if (std::isfinite(end) && !(end < 0.98 * total_strain)) {
+        const char* names[] = {"I", "I_err", "mu", "mu_err", "phi", "phi_err"};
+        for (int k = 0; k < 6; ++k) v[k] = number_attribute(steady, names[k]);
+        const char* wet_names[] = {"St", "J", "J_err"};
+        for (int k = 0; k < 3; ++k) w[k] = number_attribute(steady, wet_names[k]);
+      }
+    }
+    t.inertial.push_back(v[0]), t.inertial_err.push_back(v[1]);
+    t.friction.push_back(v[2]), t.friction_err.push_back(v[3]);
+    t.solid_fraction.push_back(v[4]), t.solid_fraction_err.push_back(v[5]);
+    t.stokes.push_back(w[0]), t.viscous.push_back(w[1]), t.viscous_err.push_back(w[2]);
+    StressRatio contact, lub;
+    if (wet && std::isfinite(v[2])) {
+      contact = series_stress_ratio(f, g, "tau_contact");
+      lub = series_stress_ratio(f, g, "tau_lub");
+    }
+    t.friction_contact.push_back(contact.value);
+    t.friction_contact_err.push_back(contact.error);
+    t.friction_lubrication.push_back(lub.value);
+    t.friction_lubrication_err.push_back(lub.error);
+  }
+  if (!t.wet) {
+    for (auto* column :
+         {&t.stokes, &t.viscous, &t.viscous_err, &t.friction_contact, &t.friction_contact_err,
+          &t.friction_lubrication, &t.friction_lubrication_err})
+      column->clear();
+  }
+  return t;
+}
+
 // Throws std::runtime_error naming the file and the missing dataset when it is not a DEM dataset.
-inline DemSteadyTable read_dem_steady_table(const std::filesystem::path& file) {
+// `total_strain` (strain.total of the case) is used only for a sweep without /steady (above).
+inline DemSteadyTable read_dem_steady_table(
+    const std::filesystem::path& file,
+    double total_strain = std::numeric_limits<double>::quiet_NaN()) {
   using namespace fits_file_detail;
   H5::Exception::dontPrint();
   H5::H5File f(file.string(), H5F_ACC_RDONLY);
+  if (!path_exists(f, "/steady/particle_friction") && path_exists(f, "/conditions/0"))
+    return steady_table_from_conditions(f, total_strain);
   auto column = [&](const std::string& name) {
     const std::string path = "/steady/" + name;
     if (!path_exists(f, path))
@@ -86,16 +152,9 @@ inline DemSteadyTable read_dem_steady_table(const std::filesystem::path& file) {
   for (std::size_t n = 0; n < t.rows(); ++n) {
     StressRatio contact, lub;
     const std::string g = fmt::format("/conditions/{}", n);
-    if (std::isfinite(t.friction[n]) && path_exists(f, g + "/series/tau_contact") &&
-        path_exists(f, g + "/steady")) {
-      H5::Group steady = f.openGroup(g + "/steady");
-      const double start_strain = number_attribute(steady, "start_strain");
-      const auto strain = read(f, g + "/series/strain");
-      const auto sigma = read(f, g + "/series/sigma_yy");
-      const std::size_t start = static_cast<std::size_t>(
-          std::lower_bound(strain.begin(), strain.end(), start_strain - 1e-12) - strain.begin());
-      contact = stress_ratio_of_series(read(f, g + "/series/tau_contact"), sigma, start);
-      lub = stress_ratio_of_series(read(f, g + "/series/tau_lub"), sigma, start);
+    if (std::isfinite(t.friction[n])) {
+      contact = series_stress_ratio(f, g, "tau_contact");
+      lub = series_stress_ratio(f, g, "tau_lub");
     }
     t.friction_contact.push_back(contact.value);
     t.friction_contact_err.push_back(contact.error);

@@ -72,8 +72,8 @@ struct InertialLawFit {
   // (NaN without published values).
   double mu_s_published_deviation() const {
     const auto pub = published_dem_law(particle_friction);
-    if (!pub) return NAN;
     const double m = mu_s();
+    if (!pub || !std::isfinite(m)) return NAN;
     return m < pub->mu_s_low    ? (m - pub->mu_s_low) / mu_s_err()
            : m > pub->mu_s_high ? (m - pub->mu_s_high) / mu_s_err()
                                 : 0.0;

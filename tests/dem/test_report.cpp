@@ -158,6 +158,35 @@ TEST(DemReport, WetSweepWithoutTabulatedStressRatiosGetsThemFromTheSeries) {
               s.get("fit.alpha"), 0.0);
 }
 
+TEST(DemReport, InterruptedSweepIsAnalysedFromItsFinishedConditions) {
+  // A sweep killed before it wrote /steady and summary.json: the finished conditions' steady
+  // attributes (/conditions/N/steady) are fitted; the one that stopped at strain 3 of 10 (killed
+  // mid-run) is left out.
+  const fs::path dir = fresh("interrupted");
+  std::ofstream(dir / "case.yaml") << "kind: dem\nname: killed\nstrain:\n  total: 10\n";
+  {
+    core::ResultFile h5(dir / "result.h5");
+    int n = 0;
+    for (double i : {0.01, 0.02, 0.05, 0.1, 0.2, 0.3, 0.15}) {
+      const std::string g = fmt::format("/conditions/{}", n++);
+      h5.attribute(g, "particle_friction", 0.5);
+      h5.attribute(g + "/steady", "I", i);
+      h5.attribute(g + "/steady", "I_err", 1e-3 * i);
+      h5.attribute(g + "/steady", "mu", dem::inertial_friction_law(i, 0.37, 0.64, 0.28));
+      h5.attribute(g + "/steady", "mu_err", 0.005);
+      h5.attribute(g + "/steady", "phi", 0.587 - 0.25 * i);
+      h5.attribute(g + "/steady", "phi_err", 0.001);
+      h5.attribute(g + "/steady", "end_strain", i == 0.15 ? 3.0 : 10.0);
+    }
+  }
+  const std::string text = read(analysis::write_report(dir));
+  EXPECT_NE(text.find("μ(I) and φ(I) fits"), std::string::npos) << text;
+  const auto s = core::Summary::read(dir / "summary.json");
+  EXPECT_EQ(s.get("fit.mu_p_0p5.points"), 6);
+  EXPECT_NEAR(s.get("fit.mu_p_0p5.mu_s"), 0.37, 1e-6);             // exact data, LM tolerance
+  EXPECT_EQ(s.get("fit.mu_p_0p5.mu_s_published_deviation"), 0.0);  // inside 0.35-0.38
+}
+
 TEST(DemReport, NotADemResultFileIsNamed) {
   const fs::path dir = fresh("not_dem");
   std::ofstream(dir / "case.yaml") << "kind: dem\nname: broken\n";
