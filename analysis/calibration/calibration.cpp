@@ -106,12 +106,20 @@ DemDataset read_dem_dataset(const std::filesystem::path& file, int source_index)
              T = column("granular_temperature"), T_err = column("granular_temperature_err"),
              T_scaled = column("scaled_temperature"), mu_p = column("particle_friction"),
              I = column("inertial_number");
+  // Immersed datasets carry η0 per row (a wet sweep varies it); dry ones have no such column.
+  std::vector<double> viscosity;
+  try {
+    viscosity = core::read_dataset(file, "/steady/viscosity");
+  } catch (const std::exception&) {
+    viscosity.clear();
+  }
   for (std::size_t r = 0; r < shear_rate.size(); ++r) {
     DataPoint p;
     p.shear_rate = shear_rate[r];
     p.normal_stress = sigma[r];
     p.particle_friction = mu_p[r];
     p.inertial_number = I[r];
+    if (r < viscosity.size()) p.liquid_viscosity = viscosity[r];
     p.value[0] = mu[r];
     p.error[0] = mu_err[r];
     p.value[1] = phi[r];
@@ -135,13 +143,23 @@ DemDataset read_dem_dataset(const std::filesystem::path& file, int source_index)
 }
 
 SteadyShearState predict(const CalibratedModel& model, const DataPoint& point) {
-  if (std::isfinite(point.particle_friction) &&
-      point.particle_friction != model.settings.collisional_parameters.particle_friction) {
-    continuum::MultiRegimeSettings s = model.settings;
-    s.collisional_parameters.particle_friction = point.particle_friction;
-    return steady_simple_shear(s, model.factors, point.shear_rate, point.normal_stress);
-  }
-  return steady_simple_shear(model.settings, model.factors, point.shear_rate, point.normal_stress);
+  const bool own_friction =
+      std::isfinite(point.particle_friction) &&
+      point.particle_friction != model.settings.collisional_parameters.particle_friction;
+  // A wet row is predicted at its own η0, scaled by the fitted liquid_viscosity_factor
+  // (= settings viscosity / reference viscosity, 1 before the fit).
+  const bool own_viscosity = std::isfinite(point.liquid_viscosity) && model.settings.liquid &&
+                             model.reference_liquid_viscosity > 0;
+  if (!own_friction && !own_viscosity)
+    return steady_simple_shear(model.settings, model.factors, point.shear_rate,
+                               point.normal_stress);
+  continuum::MultiRegimeSettings s = model.settings;
+  if (own_friction) s.collisional_parameters.particle_friction = point.particle_friction;
+  if (own_viscosity)
+    s.liquid_parameters.viscosity = point.liquid_viscosity *
+                                    model.settings.liquid_parameters.viscosity /
+                                    model.reference_liquid_viscosity;
+  return steady_simple_shear(s, model.factors, point.shear_rate, point.normal_stress);
 }
 
 double predicted(const SteadyShearState& s, Observable observable) {

@@ -55,6 +55,9 @@ struct DataPoint {
   double normal_stress = 0;      // measured steady σ_yy, Pa (the continuum's imposed p)
   double particle_friction = 0;  // μ_p of the condition (NaN: the material's)
   double inertial_number = 0;    // DEM I (reporting)
+  // η0 of an immersed condition (/steady/viscosity, Pa s); NaN for a dry row or a dataset
+  // without the column. The continuum is evaluated at this η0 × liquid_viscosity_factor.
+  double liquid_viscosity = NAN;
   double value[observable_count] = {0, 0, 0};
   double error[observable_count] = {0, 0, 0};
   int source = 0;  // index of the file it came from
