@@ -77,6 +77,9 @@ int serve_run(const core::KindEntry& entry, const core::Case& c, int rank) {
   } catch (const std::exception& e) {
     std::cerr << fmt::format("error: rank {}: {}\n", rank, e.what());
     code = core::exit_failure;
+  } catch (...) {  // e.g. an HDF5 exception: still leave the run properly (no hang)
+    std::cerr << fmt::format("error: rank {}: unknown exception\n", rank);
+    code = core::exit_failure;
   }
   std::error_code ignored;
   fs::remove_all(scratch, ignored);
@@ -108,6 +111,8 @@ int main(int argc, char** argv) {
       "  granflow run cases/rev/simple_shear_sweep.yaml --force\n"
       "  granflow check cases/rev/simple_shear_wet.yaml\n"
       "  granflow run cases/pair/dry_pair.yaml && granflow report runs/dry_pair\n"
+      "  mpirun -np 2 granflow run cases/dem/dry_sweep.yaml --set dem.ranks=1   (a sweep on 2 "
+      "cores)\n"
       "  granflow study convergence cases/mpm/rheometer_ci.yaml --vary mesh\n"
       "  granflow schema --markdown > docs/cases.md\n\n"
       "Case kinds (kind / test):\n" +
