@@ -240,6 +240,49 @@ TEST(MpiSweeps, TinyDemSweepOnTwoRanksGivesTheSerialValues) {
   fs::remove_all(dir);
 }
 
+// kind: pair under mpirun: its DEM points are shared out, rank 0 alone runs the continuum side
+// (a rank > 0 that went on would read a dataset that is not there and fail the job).
+TEST(MpiSweeps, TinyPairOnTwoRanksGivesTheSerialTable) {
+  const fs::path dir = scratch("pair");
+  fs::create_directories(dir);
+  std::ofstream(dir / "tiny_pair.yaml") << R"(kind: pair
+name: tiny_pair
+material:
+  diameter: 1.0e-3
+  particle_density: 2500
+  restitution: 0.7
+  particle_friction: 0.5
+collisional:
+  jamming_fraction: 0.587
+dem:
+  particles: 100
+  compression_steps: 1000
+control:
+  mode: constant_pressure
+  normal_stress: 100
+  solid_fraction: 0.57
+shear_rate: 20
+strain:
+  total: 0.5
+  sample: 0.005
+output:
+  profile_bins: 4
+sweep:
+  shear_rate: [20, 80]
+)";
+  const std::string pair = (dir / "tiny_pair.yaml").string() + " --quiet --out ";
+  const auto r1 = run(granflow_exe + " run " + pair + (dir / "serial").string());
+  ASSERT_EQ(r1.code, 0) << r1.text;
+  const auto r2 = run(mpirun + granflow_exe + " run " + pair + (dir / "mpi").string());
+  ASSERT_EQ(r2.code, 0) << r2.text;
+  expect_same_summary(dir / "serial", dir / "mpi");
+  expect_same_summary(dir / "serial" / "dem", dir / "mpi" / "dem");
+  EXPECT_EQ(files_of(dir / "serial"), files_of(dir / "mpi"));
+  EXPECT_TRUE(std::regex_search(read(dir / "mpi" / "dem" / "log.txt"),
+                                std::regex("condition 1: finished on rank 1")));
+  fs::remove_all(dir);
+}
+
 // granflow-dem fails (a stand-in driver that exits with status 7 after 1 s, so that rank 1 asks for
 // work while rank 0 runs point 0): each point fails on the rank that ran it, rank 0 reports both,
 // the sweep goes on and exits 4 (external program failed) like the serial run.
