@@ -142,7 +142,7 @@ TEST(MpmRheometerRegime, PicBlendDecidesWhichCrownFluidizesFirst) {
   // fluid-like flow stays a Couette flow and the inner crown, sheared first, fluidizes first
   // (half of it at 2.18 ms, the outer crown not by 4 ms); with 0.5 % PIC the shear moves to the
   // outer crown and r_c vanishes there first (outer 2.04 ms, inner 2.82 ms), the seed's Fig. 5
-  // (on 6-12 radial cells; a tie on 16, where the PIC viscosity ∝ (1 − flip) h is halved).
+  // (on 6-12 radial cells; on 16 a band also localizes at the outer ring: docs/rheometer.md).
   // Crown fluidized fractions at 2.5 ms are compared with 0.5 (a crown "fluidized" when half of
   // it has r_c below fluidization); the measured times are 0.3-0.5 ms away from 2.5 ms.
   for (const double flip : {0.95, 0.995}) {
