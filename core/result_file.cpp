@@ -126,14 +126,26 @@ void ResultFile::attribute(const std::string& object_path, const std::string& na
 }
 void ResultFile::flush() { impl_->file.flush(H5F_SCOPE_GLOBAL); }
 
+// H5::Exception is not a std::exception: the readers translate it so that every caller (and the
+// CLI's top-level handler) sees a std::runtime_error naming the file and the object.
+[[noreturn]] static void rethrow_h5(const std::filesystem::path& file, const std::string& object,
+                                    const H5::Exception& e) {
+  throw std::runtime_error(file.string() + ": cannot read " + object + " (" + e.getDetailMsg() +
+                           ")");
+}
+
 std::vector<double> read_dataset(const std::filesystem::path& file, const std::string& path) {
   H5::Exception::dontPrint();
-  H5::H5File f(file.string(), H5F_ACC_RDONLY);
-  H5::DataSet set = f.openDataSet(path);
-  const auto n = set.getSpace().getSimpleExtentNpoints();
-  std::vector<double> values(n);
-  if (n > 0) set.read(values.data(), H5::PredType::NATIVE_DOUBLE);
-  return values;
+  try {
+    H5::H5File f(file.string(), H5F_ACC_RDONLY);
+    H5::DataSet set = f.openDataSet(path);
+    const auto n = set.getSpace().getSimpleExtentNpoints();
+    std::vector<double> values(n);
+    if (n > 0) set.read(values.data(), H5::PredType::NATIVE_DOUBLE);
+    return values;
+  } catch (const H5::Exception& e) {
+    rethrow_h5(file, path, e);
+  }
 }
 
 static H5::Attribute open_attribute(H5::H5File& f, const std::string& object_path,
@@ -147,20 +159,28 @@ static H5::Attribute open_attribute(H5::H5File& f, const std::string& object_pat
 std::string read_string_attribute(const std::filesystem::path& file, const std::string& object_path,
                                   const std::string& name) {
   H5::Exception::dontPrint();
-  H5::H5File f(file.string(), H5F_ACC_RDONLY);
-  H5::Attribute a = open_attribute(f, object_path, name);
-  std::string value;
-  a.read(a.getStrType(), value);
-  return value;
+  try {
+    H5::H5File f(file.string(), H5F_ACC_RDONLY);
+    H5::Attribute a = open_attribute(f, object_path, name);
+    std::string value;
+    a.read(a.getStrType(), value);
+    return value;
+  } catch (const H5::Exception& e) {
+    rethrow_h5(file, object_path + " attribute " + name, e);
+  }
 }
 
 double read_number_attribute(const std::filesystem::path& file, const std::string& object_path,
                              const std::string& name) {
   H5::Exception::dontPrint();
-  H5::H5File f(file.string(), H5F_ACC_RDONLY);
-  double value = 0;
-  open_attribute(f, object_path, name).read(H5::PredType::NATIVE_DOUBLE, &value);
-  return value;
+  try {
+    H5::H5File f(file.string(), H5F_ACC_RDONLY);
+    double value = 0;
+    open_attribute(f, object_path, name).read(H5::PredType::NATIVE_DOUBLE, &value);
+    return value;
+  } catch (const H5::Exception& e) {
+    rethrow_h5(file, object_path + " attribute " + name, e);
+  }
 }
 
 }  // namespace granflow::core

@@ -110,7 +110,7 @@ DemDataset read_dem_dataset(const std::filesystem::path& file, int source_index)
   std::vector<double> viscosity;
   try {
     viscosity = core::read_dataset(file, "/steady/viscosity");
-  } catch (...) {  // a missing dataset is an H5::Exception, which is no std::exception
+  } catch (const std::exception&) {  // dry datasets have no /steady/viscosity
     viscosity.clear();
   }
   for (std::size_t r = 0; r < shear_rate.size(); ++r) {

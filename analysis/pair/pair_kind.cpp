@@ -21,8 +21,7 @@ namespace {
 // `schema` must outlive the returned Case (it refers to it).
 core::Case dem_case(const core::Case& c, const core::Schema& schema) {
   YAML::Node root = YAML::Load(c.resolved_yaml());
-  root.remove("collisional");
-  root.remove("liquid");
+  root.remove("collisional");  // the DEM schema carries the continuum's liquid section itself
   root["kind"] = "dem";
   YAML::Emitter out;
   out << root;
@@ -32,6 +31,10 @@ core::Case dem_case(const core::Case& c, const core::Schema& schema) {
 }  // namespace
 
 int dry_regime(double I) { return I < 1e-3 ? 0 : (I < 0.1 ? 1 : 2); }
+
+// Immersed: viscous when the Stokes number St = I²/J is below 1 (viscous drag outweighs grain
+// inertia; Courrech du Pont et al. 2003, Trulsson et al. 2012), otherwise the dry classes by I.
+int flow_regime(double I, double J) { return (J > 0 && I * I < J) ? 3 : dry_regime(I); }
 
 const char* regime_name(int regime) {
   switch (regime) {
@@ -56,14 +59,11 @@ core::Schema pair_schema() {
   for (const auto& child : dem.children())
     if (!header.count(child.key())) s.add(child);
   s.add(continuum::collisional_section());
-  s.add(continuum::liquid_section());
+  // `liquid` comes with the DEM schema: the continuum's own section with a sweepable viscosity.
   return s;
 }
 
 void check_pair_case(const core::Case& c) {
-  if (c.boolean("liquid.enabled"))
-    c.fail("liquid.enabled",
-           "false: the DEM of kind: dem is dry (the immersed DEM of issue 5 is not paired yet)");
   if (!c.boolean("collisional.enabled"))
     c.fail("collisional.enabled", "true (the continuum side is the collisional steady shear)");
   if (c.string("control.mode") != "constant_pressure")
@@ -105,6 +105,8 @@ int run_pair_case(core::RunContext& ctx) {
   // ---- continuum side: steady REV simple shear at each DEM condition (γ̇, measured σ_yy, μ_p)
   calibration::CalibratedModel model;
   model.settings = continuum::read_multi_regime_settings(c);
+  // Wet rows carry their own η0; the case's viscosity is the reference (factor 1).
+  model.reference_liquid_viscosity = model.settings.liquid_parameters.viscosity;
   const double d_mean = c.number("material.diameter"),
                rho_p = c.number("material.particle_density");
   const double alpha = c.number("liquid.trulsson_alpha");
@@ -133,7 +135,7 @@ int run_pair_case(core::RunContext& ctx) {
     regime
   };
   auto& sum = ctx.summary;
-  std::vector<std::vector<double>> rev_cols(3);
+  std::vector<std::vector<double>> rev_cols(3), viscous_cols(3);  // J_dem, J_cont, St
   double max_rev_diff = 0;
   int n = 0;
   for (const auto& p : data.points) {
@@ -145,6 +147,8 @@ int run_pair_case(core::RunContext& ctx) {
       continuum::MultiRegimeSettings rs = model.settings;
       if (std::isfinite(p.particle_friction))
         rs.collisional_parameters.particle_friction = p.particle_friction;
+      if (rs.liquid && std::isfinite(p.liquid_viscosity))
+        rs.liquid_parameters.viscosity = p.liquid_viscosity;  // the condition's η0 (wet sweeps)
       rev::SimpleShearControl control;
       control.control = rev::ShearControl::constant_pressure;
       control.shear_rate = p.shear_rate;
@@ -169,6 +173,12 @@ int run_pair_case(core::RunContext& ctx) {
     const double e_d = 1.0 / phi - 1.0, e_c = s.ok ? 1.0 / s.solid_fraction - 1.0 : NAN;
     const double mu_c = s.ok ? s.friction : NAN;
     const double I_d = p.shear_rate * d_mean / std::sqrt(p.normal_stress / rho_p);
+    // Viscous number J = η0 γ̇ / σ_yy (Boyer et al. 2011); 0 for a dry condition.
+    const double eta0 = std::isfinite(p.liquid_viscosity) ? p.liquid_viscosity : 0.0;
+    const double J_d = eta0 * p.shear_rate / p.normal_stress, J_c = s.ok ? s.viscous_number : NAN;
+    viscous_cols[0].push_back(J_d);
+    viscous_cols[1].push_back(J_c);
+    viscous_cols[2].push_back(J_d > 0 ? I_d * I_d / J_d : INFINITY);
     const double row[21] = {p.shear_rate,
                             p.normal_stress,
                             p.value[0],
@@ -184,12 +194,12 @@ int run_pair_case(core::RunContext& ctx) {
                             T_c,
                             I_d,
                             s.ok ? s.inertial_number : NAN,
-                            alpha * I_d * I_d,  // K = J + α I², J = 0 (dry)
-                            s.ok ? alpha * s.inertial_number * s.inertial_number : NAN,
+                            J_d + alpha * I_d * I_d,  // K = J + α I² (Trulsson et al. 2012)
+                            s.ok ? J_c + alpha * s.inertial_number * s.inertial_number : NAN,
                             mu_c / p.value[0] - 1.0,
                             e_c / e_d - 1.0,
                             T_c / T_d - 1.0,
-                            double(dry_regime(I_d))};
+                            double(flow_regime(I_d, J_d))};
     for (int k = 0; k < 21; ++k) cols[k].push_back(row[k]);
     const std::string key = fmt::format("pair.{}.", n);
     sum.set(key + "mu_dem", p.value[0]);
@@ -201,11 +211,12 @@ int run_pair_case(core::RunContext& ctx) {
     sum.set(key + "e_cont", e_c);
     sum.set(key + "rel_err_mu", row[rel_mu]);
     sum.set(key + "I_dem", I_d);
+    if (J_d > 0) sum.set(key + "J_dem", J_d), sum.set(key + "J_cont", J_c);
     sum.set(key + "regime", row[regime]);
     log.info(
         "point {}: γ̇ = {:g} 1/s, I = {:.3g} ({}): μ DEM {:.4g} ± {:.2g} vs continuum {:.4g} "
         "({:+.1f} %), e {:.4g} vs {:.4g}, T {:.3g} vs {:.3g} m²/s²{}",
-        n, p.shear_rate, I_d, regime_name(dry_regime(I_d)), p.value[0], p.error[0], mu_c,
+        n, p.shear_rate, I_d, regime_name(flow_regime(I_d, J_d)), p.value[0], p.error[0], mu_c,
         100 * row[rel_mu], e_d, e_c, T_d, T_c, s.ok ? "" : fmt::format(" ({})", s.why));
     ++n;
   }
@@ -215,6 +226,10 @@ int run_pair_case(core::RunContext& ctx) {
       "continuum by two paths (algebraic steady state vs time-stepped REV): largest relative "
       "difference of μ, φ, T {:.2g}",
       max_rev_diff);
+  ctx.result.write("/pair/J_dem", viscous_cols[0], "1",
+                   "viscous number η0 γ̇ / σ_yy of the DEM condition (0 dry)");
+  ctx.result.write("/pair/J_cont", viscous_cols[1], "1", "J of the continuum steady state");
+  ctx.result.write("/pair/St", viscous_cols[2], "1", "Stokes number I²/J (inf dry)");
   ctx.result.write("/pair/mu_rev", rev_cols[0], "1", "μ of the time-stepped REV (second path)");
   ctx.result.write("/pair/phi_rev", rev_cols[1], "1", "φ of the time-stepped REV");
   ctx.result.write("/pair/T_rev", rev_cols[2], "m^2/s^2", "T of the time-stepped REV");
@@ -228,7 +243,7 @@ int run_pair_case(core::RunContext& ctx) {
   for (int k = 0; k < 21; ++k)
     ctx.result.write(std::string("/pair/") + names[k], cols[k], units[k],
                      k == regime ? "regime of the DEM point: 0 quasi-static (I < 1e-3), 1 dense "
-                                   "inertial, 2 collisional (I >= 0.1)"
+                                   "inertial, 2 collisional (I >= 0.1), 3 viscous (St = I²/J < 1)"
                                  : std::string(names[k]) +
                                        " (_dem: DEM steady ± batch-means error, _cont: continuum "
                                        "steady simple shear at the DEM γ̇ and σ_yy)");

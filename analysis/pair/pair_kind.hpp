@@ -15,6 +15,8 @@ int run_pair_case(core::RunContext& ctx);
 // Pouliquen 2008): 0 quasi-static (I < 1e-3), 1 dense inertial (1e-3 ≤ I < 0.1), 2 collisional
 // (I ≥ 0.1, where kinetic theory applies).
 int dry_regime(double inertial_number);
+// Immersed point: 3 viscous when the Stokes number St = I²/J < 1, else dry_regime(I).
+int flow_regime(double inertial_number, double viscous_number);
 const char* regime_name(int regime);
 
 void register_pair_kinds(core::KindRegistry& registry);

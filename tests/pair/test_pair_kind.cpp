@@ -80,11 +80,50 @@ TEST(PairKind, TinyPairRunsEndToEnd) {
   EXPECT_NE(md.str().find("DEM and continuum, point by point"), std::string::npos);
 }
 
-TEST(PairKind, WetPairIsRefusedUntilTheImmersedDemIsPaired) {
+// An immersed pair: the DEM with fix fluid/le and the continuum with its liquid terms, each at
+// the condition's own η0 (the sweep varies it). St = ρ_p d² γ̇ / η0 = 0.2 and 20.
+TEST(PairKind, TinyWetPairRunsEndToEnd) {
+  const std::string wet_case =
+      std::string(tiny_case).substr(0, std::string(tiny_case).find("sweep:")) +
+      R"(liquid:
+  enabled: true
+  viscosity: 0.25
+  maximum_packing: 0.62
+dem_liquid:
+  minimum_gap: 0.01
+sweep:
+  liquid.viscosity: [0.25, 0.0025]
+)";
   const auto schema = pair_schema();
-  const auto c = core::Case::parse(std::string(tiny_case) + "liquid: {enabled: true}\n",
-                                   "wet_pair.yaml", {}, schema);
-  EXPECT_THROW(check_pair_case(c), core::CaseError);
+  const auto c = core::Case::parse(wet_case, "tiny_wet_pair.yaml", {}, schema);
+  check_pair_case(c);
+  const auto dir = std::filesystem::path(GRANFLOW_BINARY_DIR) / "test_pair" / "wet";
+  {
+    core::RunContext ctx(c, dir, true, true);
+    ASSERT_EQ(run_pair_case(ctx), core::exit_ok);
+    ctx.finish();
+  }
+  const auto s = core::Summary::read(dir / "summary.json");
+  ASSERT_EQ(static_cast<int>(s.get("pair.count")), 2);
+  const auto J_dem = core::read_dataset(dir / "result.h5", "/pair/J_dem");
+  const auto J_cont = core::read_dataset(dir / "result.h5", "/pair/J_cont");
+  const auto sigma = core::read_dataset(dir / "result.h5", "/pair/normal_stress");
+  const auto regime = core::read_dataset(dir / "result.h5", "/pair/regime");
+  const double eta[2] = {0.25, 0.0025};
+  for (int n = 0; n < 2; ++n) {
+    // J = η0 γ̇ / σ_yy at the DEM's measured σ_yy, and the continuum is driven at that σ_yy with
+    // the same η0: the two J agree to the rounding of the ν solve.
+    EXPECT_NEAR(J_dem[n], eta[n] * 20.0 / sigma[n], 1e-12 * J_dem[n]);
+    EXPECT_NEAR(J_cont[n] / J_dem[n], 1.0, 1e-6);
+  }
+  EXPECT_EQ(regime[0], 3.0);  // St = 0.2: viscous
+  EXPECT_NE(regime[1], 3.0);  // St = 20: by I
+  // Viscous stresses raise μ at fixed σ_yy in both the continuum (σ_L = η(ν) γ̇) and the DEM
+  // (lubrication, drag; Boyer's μ(J) at J ≈ 0.05 is ~1 vs μ(I = 0.2) ≈ 0.5 dry): a factor 100 in
+  // η0 must show in both, far beyond the ±0.05 scatter of a 200-sphere, 2-strain μ.
+  EXPECT_GT(s.get("pair.0.mu_cont"), s.get("pair.1.mu_cont"));
+  EXPECT_GT(s.get("pair.0.mu_dem"), s.get("pair.1.mu_dem") + 0.1);
+  EXPECT_TRUE(s.contains("pair.0.J_dem"));
 }
 
 }  // namespace
@@ -109,6 +148,9 @@ TEST(PairKind, RegimesByInertialNumber) {
   EXPECT_STREQ(regime_name(dry_regime(1e-4)), "quasi-static");
   EXPECT_STREQ(regime_name(dry_regime(0.01)), "dense inertial");
   EXPECT_STREQ(regime_name(dry_regime(0.2)), "collisional");
+  EXPECT_STREQ(regime_name(flow_regime(0.1, 0.05)), "viscous");      // St = I²/J = 0.2
+  EXPECT_STREQ(regime_name(flow_regime(0.1, 1e-4)), "collisional");  // St = 100: by I
+  EXPECT_STREQ(regime_name(flow_regime(0.1, 0.0)), "collisional");   // dry
 }
 
 }  // namespace
