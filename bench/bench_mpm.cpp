@@ -7,6 +7,10 @@
 //          ν = 0, n = 0.3, K_w = 1e8 Pa, k_D = 1e-3 m/s, 10 kPa sudden load, Δt = 1e-5 s,
 //          350 steps. Sanity counter: mean p behind the loading wave (about 9.7 kPa).
 // Each benchmark iteration is the whole fixed run; set-up is outside the timed region.
+// OpenMP wait policy: on an idle machine the libgomp default or OMP_WAIT_POLICY=active (a barrier
+// costs 0.3 µs); OMP_WAIT_POLICY=passive costs a futex wake-up of a halted vCPU per fork/join or
+// barrier (6-66 µs on the development VM), GOMP_SPINCOUNT=10000 spins briefly and then sleeps
+// (idle-machine speed of active, harmless on a shared machine). Figures: docs/performance.md#mpm.
 #include <benchmark/benchmark.h>
 
 #include "continuum/mpm/problems.hpp"
