@@ -9,8 +9,8 @@
 // Each benchmark iteration is the whole fixed run; set-up is outside the timed region.
 // OpenMP wait policy: on an idle machine the libgomp default or OMP_WAIT_POLICY=active (a barrier
 // costs 0.3 µs); OMP_WAIT_POLICY=passive costs a futex wake-up of a halted vCPU per fork/join or
-// barrier (6-66 µs on the development VM), GOMP_SPINCOUNT=10000 spins briefly and then sleeps
-// (idle-machine speed of active, harmless on a shared machine). Figures: docs/performance.md#mpm.
+// barrier (6-66 µs on the development VM) but is the only sane choice on a shared machine, where
+// spinning threads steal the cores of descheduled partners. Figures: docs/performance.md#mpm.
 #include <benchmark/benchmark.h>
 
 #include "continuum/mpm/problems.hpp"
