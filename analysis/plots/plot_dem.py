@@ -279,7 +279,7 @@ def wet_sweep_plots(run, h5, s):
                 if np.isfinite(f["alpha"]):
                     ax.plot(grid, f["mu_1"] + (f["mu_2"] - f["mu_1"]) / (1.0 + f["K_0"] / grid),
                             "r-", lw=1.0, label=f"free fit: μ_1 = {f['mu_1']:.3f}, μ_2 = "
-                            f"{f['mu_2']:.3f}, K_0 = {f['K_0']:.3g}, α = {f['alpha']:.3g} ± "
+                            f"{f['mu_2']:.3f}, K_0 = {f['K_0']:.3g},\nα = {f['alpha']:.3g} ± "
                             f"{f['alpha_err']:.2g}, χ²_red = {f['mu_chi2_red']:.2g}")
             ax.legend(fontsize=7)
         else:
