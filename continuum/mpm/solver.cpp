@@ -975,9 +975,23 @@ void Solver::conduct_temperature(const G& grid) {
 #pragma omp for schedule(static)
     for (long p = 0; p < np; ++p) {
       if (!locate<G, S>(grid, 0, p, st)) continue;
+      // Remap of the nodal change ΔT_a to the points. Heating: N_a ΔT_a (additive). Cooling:
+      // each point gives up its share in proportion to its own T, N_a ΔT_a T_p / T_a, with T_a the
+      // capacity-weighted nodal T. Both conserve the energy of node a exactly
+      // (Σ_p c_p N_a ΔT_a T_p / T_a = ΔT_a C_a), and a cooling point keeps T_p ≥ 0 whenever the
+      // nodal update keeps T_a + ΔT_a ≥ 0 (the explicit conduction limit), which the additive form
+      // does not guarantee for a cold point next to hot ones.
+      const double Tp = sp.temperature[p];
       double dT = 0;
-      for (int k = 0; k < st.count; ++k) dT += st.N[k] * A[st.node[k]];
-      sp.temperature[p] += dT;
+      for (int k = 0; k < st.count; ++k) {
+        const int a = st.node[k];
+        const double dTa = A[a];
+        if (dTa >= 0.0)
+          dT += st.N[k] * dTa;
+        else if (nodal_T[a] > 0.0)
+          dT += st.N[k] * dTa * (Tp / nodal_T[a]);
+      }
+      sp.temperature[p] = Tp + dT;
       if (!(sp.temperature[p] >= 0.0)) negative = std::max(negative, p);
     }
   }

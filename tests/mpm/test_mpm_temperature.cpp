@@ -62,3 +62,41 @@ TEST(MpmTemperature, ConductionModeDecaysAtTheAnalyticRate) {
   EXPECT_GT(Tmin, 0.0);
   EXPECT_EQ(s.solid().x[0], s.solid().x0[0]);  // nothing moved: conduction only
 }
+
+// A single hot point in a cold column: the nodes around it cool while their cold points must not.
+// With the additive remap N_a ΔT_a a point at T = 0 next to a cooling node goes negative (the run
+// stops with "negative granular temperature"); the remap in proportion to the point's own T keeps
+// every T ≥ 0 and still conserves Σ m T node by node.
+TEST(MpmTemperature, HotSpotConductsWithoutNegativeTemperature) {
+  const double L = 1.0, h = 0.05, kappa = 50.0, rho_s = 2000.0, n = 0.4;
+  SolverOptions o;
+  o.threads = 1;
+  o.temperature_conductivity = kappa;
+  o.fixed_dt = 1e-3;
+  Solver s(CartesianGrid(0, 0, h, h, 2, 20), o);
+  const int mat = s.add_material(std::make_unique<LinearElastic>(1e6, 0.2, rho_s));
+  add_solid_rectangle(s, {0, 0, 2 * h, L, 4, 40}, mat, n);
+  std::size_t hot = 0;  // the point nearest the middle of the column
+  for (std::size_t p = 0; p < s.solid().size(); ++p) {
+    s.solid().temperature[p] = 0.0;
+    if (std::abs(s.solid().y[p] - 0.5 * L) + std::abs(s.solid().x[p] - 0.5 * h) <
+        std::abs(s.solid().y[hot] - 0.5 * L) + std::abs(s.solid().x[hot] - 0.5 * h))
+      hot = p;
+  }
+  s.solid().temperature[hot] = 1.0;
+  s.initialize();
+  ASSERT_LT(s.dt(), s.limits().conduction);
+  const double energy0 = s.solid().mass[hot] * 1.0;
+  ASSERT_NO_THROW(s.run_steps(200));  // no SolverFailure for a negative T
+  double energy = 0, Tmin = 1e30;
+  int warmed = 0;
+  for (std::size_t p = 0; p < s.solid().size(); ++p) {
+    energy += s.solid().mass[p] * s.solid().temperature[p];
+    Tmin = std::min(Tmin, s.solid().temperature[p]);
+    if (p != hot && s.solid().temperature[p] > 0.0) ++warmed;
+  }
+  EXPECT_NEAR(energy / energy0, 1.0, 1e-12);  // node-by-node conservation: round-off only
+  EXPECT_GE(Tmin, 0.0);
+  EXPECT_GT(warmed, 8);                        // the heat did spread to the neighbours
+  EXPECT_LT(s.solid().temperature[hot], 0.5);  // and left the hot point
+}
