@@ -13,6 +13,7 @@
 #include "continuum/mpm/linear_elastic.hpp"
 #include "continuum/mpm/setup.hpp"
 #include "continuum/mpm/solver.hpp"
+#include "tests/mpm/two_phase_block.hpp"
 
 using namespace granflow::mpm;
 
@@ -27,28 +28,10 @@ std::unique_ptr<Solver> free_block(DragIntegration drag, UpdateScheme scheme, do
   o.flip = 0.95;
   o.shape = shape;
   o.gimp_half_length_x = o.gimp_half_length_y = 0.025;
-  LiquidOptions l;
-  l.bulk_modulus = 1e7;
-  l.viscosity = 0.5;
-  l.hydraulic_conductivity = 1e-4;
-  auto s = std::make_unique<Solver>(CartesianGrid(0, 0, 0.1, 0.1, 20, 20), o, l);
-  const int mat = s->add_material(std::make_unique<LinearElastic>(1e6, 0.25, 2650.0));
-  const Rectangle r{0.55, 0.55, 1.45, 1.45, 18, 18};
-  add_solid_rectangle(*s, r, mat, 0.4);
-  add_liquid_rectangle(*s, r, 0.4);
-  SolidPoints& sp = s->solid();
-  for (std::size_t p = 0; p < sp.size(); ++p) {
-    sp.vx[p] = 0.2 * std::sin(3 * sp.y[p]);
-    sp.vy[p] = -0.1 * std::cos(2 * sp.x[p]);
-    sp.sxx[p] = -1e3 * sp.x[p];
-    sp.sxy[p] = 5e2 * sp.y[p];
-  }
+  auto s = granflow::mpm::testing::two_phase_block(o);
+  const SolidPoints& sp = s->solid();
   LiquidPoints& lp = s->liquid();
-  for (std::size_t p = 0; p < lp.size(); ++p) {
-    lp.vx[p] = -0.3 * sp.vy[p];
-    lp.vy[p] = 0.1;
-    lp.pressure[p] = 2e3 * lp.y[p];
-  }
+  for (std::size_t p = 0; p < lp.size(); ++p) lp.vx[p] = -0.3 * sp.vy[p];
   s->initialize();
   return s;
 }

@@ -22,13 +22,14 @@
 #include "continuum/mpm/problems.hpp"
 #include "continuum/mpm/setup.hpp"
 #include "continuum/mpm/solver.hpp"
+#include "tests/mpm/two_phase_block.hpp"
 
 using namespace granflow::mpm;
 
 namespace {
 
-// A free two-phase block in a box with non-uniform stress, pressure and velocities (the set-up
-// of test_mpm_conservation), base nodes fixed and one nodal force; `tweak` sets the options.
+// The free two-phase block of tests/mpm/two_phase_block.hpp (also test_mpm_conservation) with a
+// T field, base nodes fixed and one nodal force; `tweak` sets the options.
 std::unique_ptr<Solver> block(int threads, const std::function<void(SolverOptions&)>& tweak) {
   SolverOptions o;
   o.threads = threads;
@@ -36,29 +37,11 @@ std::unique_ptr<Solver> block(int threads, const std::function<void(SolverOption
   o.flip = 0.95;
   o.gimp_half_length_x = o.gimp_half_length_y = 0.025;
   tweak(o);
-  LiquidOptions l;
-  l.bulk_modulus = 1e7;
-  l.viscosity = 0.5;
-  l.hydraulic_conductivity = 1e-4;
-  auto s = std::make_unique<Solver>(CartesianGrid(0, 0, 0.1, 0.1, 20, 20), o, l);
-  const int mat = s->add_material(std::make_unique<LinearElastic>(1e6, 0.25, 2650.0));
-  const Rectangle r{0.55, 0.55, 1.45, 1.45, 18, 18};
-  add_solid_rectangle(*s, r, mat, 0.4);
-  add_liquid_rectangle(*s, r, 0.4);
+  auto s = granflow::mpm::testing::two_phase_block(o);
   SolidPoints& sp = s->solid();
-  for (std::size_t p = 0; p < sp.size(); ++p) {
-    sp.vx[p] = 0.2 * std::sin(3 * sp.y[p]);
-    sp.vy[p] = -0.1 * std::cos(2 * sp.x[p]);
-    sp.sxx[p] = -1e3 * sp.x[p];
-    sp.sxy[p] = 5e2 * sp.y[p];
-    sp.temperature[p] = 1.0 + sp.x[p];
-  }
+  for (std::size_t p = 0; p < sp.size(); ++p) sp.temperature[p] = 1.0 + sp.x[p];
   LiquidPoints& lp = s->liquid();
-  for (std::size_t p = 0; p < lp.size(); ++p) {
-    lp.vx[p] = 0.1 * lp.y[p];
-    lp.vy[p] = 0.1;
-    lp.pressure[p] = 2e3 * lp.y[p];
-  }
+  for (std::size_t p = 0; p < lp.size(); ++p) lp.vx[p] = 0.1 * lp.y[p];
   for (int a = 0; a <= 20; ++a) s->fix_velocity(Phase::solid, a, Frame::xy, 1, 0.0);
   s->add_nodal_force(Phase::solid, 200, 3.0, -2.0);
   s->initialize();
