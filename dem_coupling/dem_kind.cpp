@@ -111,9 +111,10 @@ core::Schema shear_schema() {
       .sweepable();
   control
       .number("servo_gain", "",
-              "relative height change per relative stress error; default 0.1 × I_target "
-              "(I_target = γ̇ d / sqrt(σ_yy/ρ_p)) within [1e-4, 0.02], since the loop gain is "
-              "gain × d ln σ/d ln φ ≈ gain × 2φ/(φ_c - φ) and φ_c - φ ∝ I")
+              "relative height change per relative stress error; default: loop gain "
+              "gain × d ln σ/d ln φ ≈ 0.25 at the target, i.e. dry 0.1 × I_target (I_target = "
+              "γ̇ d / sqrt(σ_yy/ρ_p)) within [1e-4, 0.02], immersed 0.125 √K/(1 + √K) (K = J + "
+              "α I² at the target, φ = φ_m/(1 + √K)) within [1e-4, 0.05]")
       .greater_than(0);
   control.number("servo_max_strain", "", "largest relative height change per servo update")
       .default_value("0.002")
@@ -158,16 +159,7 @@ ShearDeckParams read_shear_params(const core::Case& c) {
   p.solid_fraction = c.number("control.solid_fraction");
   p.shear_rate = c.number("shear_rate");  // before the servo gain, which depends on it
   if (c.has("control.normal_stress")) p.normal_stress = c.number("control.normal_stress");
-  if (c.has("control.servo_gain")) {
-    p.servo_gain = c.number("control.servo_gain");
-  } else if (p.constant_pressure) {
-    // Dense flow: phi_c - phi ≈ a I, so d ln sigma / d ln phi ≈ 2 phi / (a I) ~ 2.4 / I. A loop
-    // gain ≈ 0.25 (over-damped integral control) needs gain ≈ 0.1 I (0.01 at I = 0.1, the value
-    // of liggghts-study.md; 0.01 at I = 0.01 made sigma_yy oscillate at twice the target).
-    const double target_inertial =
-        p.shear_rate * m.diameter / std::sqrt(p.normal_stress / m.particle_density);
-    p.servo_gain = std::clamp(0.1 * target_inertial, 1e-4, 0.02);
-  }
+  if (c.has("control.servo_gain")) p.servo_gain = c.number("control.servo_gain");
   p.servo_max_strain = c.number("control.servo_max_strain");
   p.servo_strain = c.number("control.servo_strain");
   p.total_strain = c.number("strain.total");
@@ -185,6 +177,10 @@ ShearDeckParams read_shear_params(const core::Case& c) {
   w.tangential_lubrication = c.boolean("dem_liquid.tangential_lubrication");
   w.rotational_drag = c.boolean("dem_liquid.rotational_drag");
   w.viscous_safety = c.number("dem_liquid.viscous_time_step_safety");
+  // Servo gain default (needs the liquid): loop gain ≈ 0.25 from d ln σ/d ln φ at the target,
+  // dry from I, immersed from K = J + α I² (shear_deck.hpp, default_servo_gain; 0.01 at I = 0.01
+  // made sigma_yy oscillate at twice the target, the dry rule at J = 0.1 left it 1.9x high).
+  if (!c.has("control.servo_gain") && p.constant_pressure) p.servo_gain = default_servo_gain(p);
   return p;
 }
 

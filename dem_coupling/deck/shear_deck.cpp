@@ -98,6 +98,19 @@ std::vector<std::pair<std::string, std::string>> check_shear_params(const ShearD
   return issues;
 }
 
+double default_servo_gain(const ShearDeckParams& p) {
+  const DemMaterial& m = p.material;
+  const double inertial_number =
+      p.shear_rate * m.diameter / std::sqrt(p.normal_stress / m.particle_density);
+  if (!p.wet.enabled) return std::clamp(0.1 * inertial_number, 1e-4, 0.02);
+  const double viscous_number = p.wet.viscosity * p.shear_rate / p.normal_stress;
+  const double root_mixed_number =
+      std::sqrt(viscous_number + p.wet.trulsson_alpha * inertial_number * inertial_number);
+  const double stress_sensitivity = 2.0 * (1.0 + root_mixed_number) / root_mixed_number;
+  constexpr double loop_gain = 0.25;
+  return std::clamp(loop_gain / stress_sensitivity, 1e-4, 0.05);
+}
+
 ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file_name) {
   ShearDeck out;
   const DemMaterial& m = p.material;

@@ -1,0 +1,146 @@
+// Constant-normal-stress servo (NormalStressServo with default_servo_gain) on a model plant with
+// the immersed steady rheology, in the loop the driver runs: every servo_strain the height moves
+// linearly (fix deform y final) to servo.next_height(L_y, mean σ_yy of the last interval), and
+// σ_yy relaxes towards its steady value over a strain γ_r (the microstructure's response time).
+//
+// Plant: φ = φ_m / (1 + b √K), K = J + α I², J = η0 γ̇/σ, I² = ρ_p d² γ̇²/σ (Boyer et al. 2011 with
+// J -> K, Trulsson et al. 2012), i.e. σ_ss(φ) = (η0 γ̇ + α ρ_p d² γ̇²) / ((φ_m/φ - 1)/b)². The
+// parameters are the DEM's own wet-sweep fit (φ_m = 0.5961, b = 1.543, α = 0.081, docs/
+// dem_dataset.md), not the servo's design values (b = 1, α = 0.6): the loop must tolerate that.
+// The wet sweep's 25 Pa / St 0.1 point (η0 = 0.25 Pa s, γ̇ = 10 1/s, start φ = 0.57) ended at
+// σ_yy = 46.6 Pa with gain 0.01 (the dry rule) and at most 0.002 height strain per 0.05 strain.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "dem_coupling/deck/shear_deck.hpp"
+#include "dem_coupling/extraction/normal_stress_servo.hpp"
+
+namespace {
+
+using granflow::dem::default_servo_gain;
+using granflow::dem::NormalStressServo;
+using granflow::dem::ShearDeckParams;
+
+struct SteadyRheology {
+  double solid_fraction_max, b, alpha;  // φ = φ_m / (1 + b √K), K = J + α I²
+};
+constexpr SteadyRheology dem_fit{0.5961, 1.543, 0.081};
+constexpr SteadyRheology boyer{0.585, 1.0, 0.6};
+
+struct Condition {
+  double viscosity, normal_stress;  // η0 (Pa s), target σ_yy (Pa)
+  double shear_rate = 10.0, diameter = 1e-3, particle_density = 2500.0;
+};
+
+double steady_stress(const SteadyRheology& r, const Condition& c, double phi) {
+  const double numerator = c.viscosity * c.shear_rate + r.alpha * c.particle_density * c.diameter *
+                                                            c.diameter * c.shear_rate *
+                                                            c.shear_rate;
+  const double root_k = std::max(r.solid_fraction_max / phi - 1.0, 1e-9) / r.b;
+  return numerator / (root_k * root_k);
+}
+
+ShearDeckParams immersed(const Condition& c) {
+  ShearDeckParams p;
+  p.material.diameter = c.diameter;
+  p.material.particle_density = c.particle_density;
+  p.constant_pressure = true;
+  p.normal_stress = c.normal_stress;
+  p.shear_rate = c.shear_rate;
+  p.wet.enabled = true;
+  p.wet.viscosity = c.viscosity;
+  p.wet.trulsson_alpha = 0.6;
+  return p;
+}
+
+// Interval means of σ_yy / p0, one per servo update, over `total` strain.
+std::vector<double> run_loop(const SteadyRheology& r, const Condition& c, double gain,
+                             double max_strain, double total = 8.0, double start_phi = 0.57) {
+  const double servo_strain = 0.05, sample_strain = 0.01, response_strain = 0.1;
+  constexpr int substeps = 10;
+  NormalStressServo servo(c.normal_stress, gain, max_strain);
+  double height = 1.0, sigma = steady_stress(r, c, start_phi), mean = 0.0;
+  std::vector<double> means;
+  const int updates = int(std::lround(total / servo_strain));
+  const int samples = int(std::lround(servo_strain / sample_strain));
+  for (int k = 0; k < updates; ++k) {
+    const double start = height, end = k == 0 ? height : servo.next_height(height, mean);
+    mean = 0.0;
+    for (int s = 0; s < samples; ++s) {
+      for (int q = 1; q <= substeps; ++q) {
+        const double f = double(s * substeps + q) / (samples * substeps);
+        const double phi = start_phi / (start + (end - start) * f);  // N, L_x, L_z fixed
+        sigma += (steady_stress(r, c, phi) - sigma) *
+                 (1.0 - std::exp(-sample_strain / substeps / response_strain));
+      }
+      mean += sigma / samples;
+    }
+    height = end;
+    means.push_back(mean / c.normal_stress);
+  }
+  return means;
+}
+
+// Largest |σ/p0 - 1| over the updates at strain >= from.
+double worst_after(const std::vector<double>& means, double from) {
+  double worst = 0.0;
+  for (std::size_t k = std::size_t(std::lround(from / 0.05)); k < means.size(); ++k)
+    worst = std::max(worst, std::abs(means[k] - 1.0));
+  return worst;
+}
+
+TEST(DemServo, DefaultGainIsTheDryRuleWithoutLiquid) {
+  // Dry: 0.1 I_target within [1e-4, 0.02], I = γ̇ d / sqrt(p0/ρ_p) = 10e-3 / sqrt(100/2500) = 0.05.
+  ShearDeckParams p = immersed({0.0, 100.0});
+  p.wet.enabled = false;
+  EXPECT_NEAR(default_servo_gain(p), 0.005, 1e-15);  // round-off of the sqrt
+  p.normal_stress = 1e-4;                            // I = 50: clamped
+  EXPECT_EQ(default_servo_gain(p), 0.02);
+}
+
+TEST(DemServo, ImmersedGainFollowsTheMixedNumberAtTheTarget) {
+  // η0 = 0.25 Pa s, p0 = 25 Pa: J = 0.1, I = 0.1, K = 0.1 + 0.6 × 0.01 = 0.106,
+  // gain = 0.25 / (2 (1 + √K)/√K) = 0.125 √K/(1 + √K).
+  const double root_k = std::sqrt(0.106);
+  EXPECT_NEAR(default_servo_gain(immersed({0.25, 25.0})), 0.125 * root_k / (1.0 + root_k), 1e-15);
+  // Inertial limit (η0 -> 0): 0.125 √α I/(1 + √α I), within 10 % of the dry rule 0.1 I.
+  const double gain = default_servo_gain(immersed({1e-9, 100.0}));
+  EXPECT_NEAR(gain, 0.005, 0.1 * 0.005);
+}
+
+TEST(DemServo, ViscousRegimeServoSettlesOnItsTarget) {
+  // The failing point: 25 Pa, St = 0.1. With the immersed default gain (0.031) and the wet
+  // sweep's clamp of 0.01 per 0.05 strain (dilation rate <= 0.2 γ̇) the interval mean is within
+  // 2 % of p0 from strain 3 to 8 (2 %: half the standard error of the DEM point's σ_yy, so the
+  // servo's remainder is negligible; this plant leaves < 0.5 %).
+  const Condition viscous{0.25, 25.0};
+  const double gain = default_servo_gain(immersed(viscous));
+  EXPECT_LT(worst_after(run_loop(dem_fit, viscous, gain, 0.01), 3.0), 0.02);
+  EXPECT_LT(worst_after(run_loop(boyer, viscous, gain, 0.01), 3.0), 0.02);
+  // The sweep's old settings (dry-rule gain 0.01, clamp 0.002): still dilating at its clamp and
+  // > 20 % high at strain 8 (1.30 p0 here, 1.86 p0 in the DEM). The clamp alone does that:
+  // the new gain with the old clamp fails too.
+  EXPECT_GT(run_loop(dem_fit, viscous, 0.01, 0.002).back(), 1.2);
+  EXPECT_GT(run_loop(dem_fit, viscous, gain, 0.002).back(), 1.2);
+}
+
+TEST(DemServo, ImmersedDefaultGainIsStableAtTheDenseInertialEnd) {
+  // St = 100 at p0 = 100 Pa and 25 Pa (η0 = 2.5e-4 Pa s, d ln σ/d ln φ ~ 50-90): the same rule
+  // and clamp settle within 2 % by strain 3 and stay there (no growing oscillation), for the
+  // DEM's rheology and Boyer's; a gain 6x the default oscillates (loop gain > 2).
+  for (const Condition c : {Condition{2.5e-4, 100.0}, Condition{2.5e-4, 25.0},
+                            Condition{2.5e-3, 100.0}, Condition{0.025, 25.0}}) {
+    const double gain = default_servo_gain(immersed(c));
+    EXPECT_LT(worst_after(run_loop(dem_fit, c, gain, 0.01), 3.0), 0.02) << c.viscosity;
+    EXPECT_LT(worst_after(run_loop(boyer, c, gain, 0.01), 3.0), 0.02) << c.viscosity;
+  }
+  const Condition dense{2.5e-4, 100.0};
+  EXPECT_GT(
+      worst_after(run_loop(dem_fit, dense, 6.0 * default_servo_gain(immersed(dense)), 0.01), 3.0),
+      0.1);
+}
+
+}  // namespace
