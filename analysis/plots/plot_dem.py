@@ -12,8 +12,9 @@ mu_phi_wet_I.png, stress_parts.png, with Boyer et al. (2011) (model.md section 7
   mu_1 = 0.32, mu_2 = 0.7, J_0 = 0.005, nu_m = 0.585; against K = J + alpha I^2 the same law in K
   (Trulsson et al. 2012 form), alpha = fit.alpha of summary.json if present, else the case's.
 Fits of the run (/fits of result.h5, dem_coupling/kind/dem_fits.hpp; rewritten by `granflow
-report`): the fitted mu(I) and phi(I) = phi_c - a I per friction on mu_I.png and phi_I.png with the
-published DEM values (mu_p = 0.5: mu_s 0.35-0.38, phi_c 0.587, Chialvo et al. 2012; frictionless:
+report`): the fitted mu(I) and phi(I) per friction on mu_I.png and phi_I.png (the law of attribute
+"law": GDR MiDi mu(I) with phi_c - a I, or Peyneau & Roux 2008 for frictionless spheres,
+mu_0 + c I^alpha and phi_RCP - b I^beta) with the published DEM values (mu_p = 0.5: mu_s 0.35-0.38, phi_c 0.587, Chialvo et al. 2012; frictionless:
 mu_s 0.10, phi_c 0.639, Peyneau & Roux 2008); wet: the free mu(K) fit on mu_K.png and
 boyer_split.png (tau_contact/sigma_yy against Boyer's contact part mu_c(J), tau_lub/sigma_yy
 against the hydrodynamic part mu_h(J) = J + 2.5 nu_m J^(1/2)).
@@ -66,6 +67,29 @@ def friction_fits(h5):
         if isinstance(g, h5py.Group) and "particle_friction" in g.attrs:
             out[float(g.attrs["particle_friction"])] = dict(g.attrs)
     return out
+
+
+def law_name(f):
+    law = f.get("law", "gdr_midi")
+    return law.decode() if isinstance(law, bytes) else str(law)
+
+
+def law_label(f):
+    return "Peyneau & Roux" if law_name(f) == "peyneau_roux" else "GDR MiDi"
+
+
+def fitted_friction(f, I):
+    """The fitted mu(I) of /fits/<label>: mu_0 + c I^alpha (peyneau_roux) or GDR MiDi."""
+    if law_name(f) == "peyneau_roux":
+        return f["mu_0"] + f["c"] * I ** f["alpha"]
+    return mu_of_I(I, f["mu_s"], f["mu_2"], f["I_0"])
+
+
+def fitted_solid_fraction(f, I):
+    """phi_RCP - b I^beta (peyneau_roux) or phi_c - a I (GDR MiDi)."""
+    if law_name(f) == "peyneau_roux":
+        return f["phi_rcp"] - f["b"] * I ** f["beta"]
+    return f["phi_c"] - f["a"] * I
 
 
 # /conditions/N/steady attribute of each /steady column (docs/dem_dataset.md).
@@ -191,9 +215,9 @@ def sweep_plots(run, h5, s):
         color = f"C{c}"
         f = fits.get(float(m))
         if f is not None and np.isfinite(f.get("mu_s", np.nan)):
-            ax.semilogx(Igrid, mu_of_I(Igrid, f["mu_s"], f["mu_2"], f["I_0"]), "-", color=color,
-                        lw=1.0, label=f"fit μ_p = {m:g}: μ_s = {f['mu_s']:.3f} ± {f['mu_s_err']:.3f}, "
-                        f"χ²_red = {f['mu_chi2_red']:.2g}")
+            ax.semilogx(Igrid, fitted_friction(f, Igrid), "-", color=color, lw=1.0,
+                        label=f"fit μ_p = {m:g} ({law_label(f)}): μ(0) = {f['mu_s']:.3f} ± "
+                        f"{f['mu_s_err']:.3f}, χ²_red = {f['mu_chi2_red']:.2g}")
         pub = PUBLISHED.get(float(m))
         if pub is not None:
             lo, hi, _, src = pub
@@ -216,8 +240,8 @@ def sweep_plots(run, h5, s):
         color = f"C{c}"
         f = fits.get(float(m))
         if f is not None and np.isfinite(f.get("phi_c", np.nan)):
-            ax.plot(Igrid, f["phi_c"] - f["a"] * Igrid, "-", color=color, lw=1.0,
-                    label=f"fit φ_c − a I: φ_c = {f['phi_c']:.4f} ± {f['phi_c_err']:.4f}, "
+            ax.plot(Igrid, fitted_solid_fraction(f, Igrid), "-", color=color, lw=1.0,
+                    label=f"fit ({law_label(f)}): φ(0) = {f['phi_c']:.4f} ± {f['phi_c_err']:.4f}, "
                     f"χ²_red = {f['phi_chi2_red']:.2g}")
         pub = PUBLISHED.get(float(m))
         if pub is not None:

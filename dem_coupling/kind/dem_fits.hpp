@@ -6,7 +6,7 @@
 //     Boyer et al. 2011's contact part μ_c(J) and hydrodynamic part μ_h(J).
 // Used at the end of `granflow run` (dem_kind.cpp) and by `granflow report RUN_DIR`
 // (analysis/report.cpp, dem_fits_file.hpp), which re-derives it from an existing result.h5.
-// Header-only (see weighted_least_squares.hpp).
+// Header-only (see analysis/least_squares.hpp).
 #pragma once
 
 #include <fmt/format.h>
@@ -127,6 +127,47 @@ inline DemFits compute_dem_fits(const DemSteadyTable& t) {
   return f;
 }
 
+// The numbers of a dry fit, as /fits/<label> attributes and fit.<label>.* summary keys: the
+// law's parameters and errors by name (GDR MiDi: mu_s, mu_2, I_0, phi_c, a; Peyneau & Roux:
+// mu_0, c, alpha, phi_rcp, b, beta), the I → 0 limits under common names (mu_s and phi_c: for
+// Peyneau & Roux these are μ_0 and φ_RCP), goodness of fit, a law code (law_peyneau_roux: 1 for
+// Peyneau & Roux, 0 for GDR MiDi; the name is the string attribute "law") and the deviations from
+// the published values.
+inline std::vector<std::pair<std::string, double>> dry_fit_numbers(const InertialLawFit& d) {
+  std::vector<std::pair<std::string, double>> out = {
+      {"particle_friction", d.particle_friction},
+      {"points", double(d.inertial.size())},
+      {"law_peyneau_roux", d.law == DryLaw::peyneau_roux ? 1.0 : 0.0}};
+  const DryLawText text = dry_law_text(d.law);
+  for (std::size_t j = 0; j < text.friction_parameters.size(); ++j) {
+    out.emplace_back(text.friction_parameters[j], d.mu_value(int(j)));
+    out.emplace_back(text.friction_parameters[j] + "_err", d.mu_error(int(j)));
+  }
+  for (std::size_t j = 0; j < text.solid_fraction_parameters.size(); ++j) {
+    out.emplace_back(text.solid_fraction_parameters[j], d.phi_value(int(j)));
+    out.emplace_back(text.solid_fraction_parameters[j] + "_err", d.phi_error(int(j)));
+  }
+  if (!d.gdr_midi()) {
+    out.emplace_back("mu_s", d.mu_s());
+    out.emplace_back("mu_s_err", d.mu_s_err());
+    out.emplace_back("phi_c", d.phi_c());
+    out.emplace_back("phi_c_err", d.phi_c_err());
+  }
+  const std::pair<const char*, double> rest[] = {
+      {"mu_chi2_red", d.mu.chi2_red},
+      {"mu_dof", double(d.mu.dof)},
+      {"mu_max_residual", d.mu.max_abs_residual()},
+      {"mu_at_bound", d.mu.at_bound ? 1.0 : 0.0},
+      {"phi_chi2_red", d.phi.chi2_red},
+      {"phi_dof", double(d.phi.dof)},
+      {"phi_max_residual", d.phi.max_abs_residual()},
+      {"phi_at_bound", d.phi.at_bound ? 1.0 : 0.0},
+      {"mu_s_published_deviation", d.mu_s_published_deviation()},
+      {"phi_c_published_deviation", d.phi_c_published_deviation()}};
+  for (const auto& [name, value] : rest) out.emplace_back(name, value);
+  return out;
+}
+
 // Writes /fits (docs/dem_dataset.md) through `sink`, which has the ResultFile interface:
 // attribute(group, name, double) and write(path, values, unit, description).
 template <class Sink>
@@ -141,25 +182,12 @@ void write_dem_fits(const DemFits& f, const DemSteadyTable& t, Sink& sink) {
                              "covariance (J^T W J)^-1 not rescaled (docs/dem_dataset.md)"));
   for (const InertialLawFit& d : f.dry) {
     const std::string g = "/fits/" + friction_label(d.particle_friction);
-    const std::pair<const char*, double> attrs[] = {{"particle_friction", d.particle_friction},
-                                                    {"points", double(d.inertial.size())},
-                                                    {"mu_s", d.mu_s()},
-                                                    {"mu_s_err", d.mu_s_err()},
-                                                    {"mu_2", d.mu_2()},
-                                                    {"mu_2_err", d.mu_2_err()},
-                                                    {"I_0", d.i_0()},
-                                                    {"I_0_err", d.i_0_err()},
-                                                    {"mu_chi2_red", d.mu.chi2_red},
-                                                    {"mu_dof", double(d.mu.dof)},
-                                                    {"mu_max_residual", d.mu.max_abs_residual()},
-                                                    {"phi_c", d.phi_c()},
-                                                    {"phi_c_err", d.phi_c_err()},
-                                                    {"a", d.a()},
-                                                    {"a_err", d.a_err()},
-                                                    {"phi_chi2_red", d.phi.chi2_red},
-                                                    {"phi_dof", double(d.phi.dof)},
-                                                    {"phi_max_residual", d.phi.max_abs_residual()}};
-    for (const auto& [name, value] : attrs) sink.attribute(g, name, value);
+    const DryLawText text = dry_law_text(d.law);
+    sink.attribute(g, "law", std::string(dry_law_name(d.law)));
+    sink.attribute(g, "law_reference", std::string(text.reference));
+    sink.attribute(g, "friction_law", std::string(text.friction_formula));
+    sink.attribute(g, "solid_fraction_law", std::string(text.solid_fraction_formula));
+    for (const auto& [name, value] : dry_fit_numbers(d)) sink.attribute(g, name, value);
     if (const auto pub = published_dem_law(d.particle_friction)) {
       sink.attribute(g, "published_mu_s_low", pub->mu_s_low);
       sink.attribute(g, "published_mu_s_high", pub->mu_s_high);
@@ -171,23 +199,21 @@ void write_dem_fits(const DemFits& f, const DemSteadyTable& t, Sink& sink) {
     sink.write(g + "/friction_err", d.friction_err, "1", "their standard errors");
     if (d.mu.estimate.size()) {
       sink.write(g + "/friction_fit",
-                 fit_values(d.inertial,
-                            [&](double i) {
-                              return inertial_friction_law(i, d.mu_s(), d.mu_2(), d.i_0());
-                            }),
-                 "1", "fitted μ(I) at the points");
+                 fit_values(d.inertial, [&](double i) { return d.friction_at(i); }), "1",
+                 std::string("fitted ") + text.friction_formula + " at the points");
       std::vector<double> r(d.mu.normalised_residuals.data(),
                             d.mu.normalised_residuals.data() + d.mu.normalised_residuals.size());
       sink.write(g + "/friction_residual", r, "1", "(μ − μ_fit)/err μ");
     }
     sink.write(g + "/solid_fraction", d.solid_fraction, "1", "DEM φ of the points fitted");
     sink.write(g + "/solid_fraction_err", d.solid_fraction_err, "1", "their standard errors");
-    if (d.phi.points >= 3) {
+    if (d.phi.estimate.size()) {
       sink.write(g + "/solid_fraction_fit",
-                 fit_values(d.inertial, [&](double i) { return d.phi_c() - d.a() * i; }), "1",
-                 "fitted φ(I) = φ_c − a I at the points");
-      sink.write(g + "/solid_fraction_residual", d.phi.normalised_residuals, "1",
-                 "(φ − φ_fit)/err φ");
+                 fit_values(d.inertial, [&](double i) { return d.solid_fraction_at(i); }), "1",
+                 std::string("fitted ") + text.solid_fraction_formula + " at the points");
+      std::vector<double> r(d.phi.normalised_residuals.data(),
+                            d.phi.normalised_residuals.data() + d.phi.normalised_residuals.size());
+      sink.write(g + "/solid_fraction_residual", r, "1", "(φ − φ_fit)/err φ");
     }
   }
   if (!f.wet) return;
@@ -243,18 +269,7 @@ inline std::map<std::string, double> dem_fit_summary(const DemFits& f, const Dem
   std::map<std::string, double> out;
   for (const InertialLawFit& d : f.dry) {
     const std::string p = "fit." + friction_label(d.particle_friction) + ".";
-    out[p + "points"] = double(d.inertial.size());
-    out[p + "mu_s"] = d.mu_s(), out[p + "mu_s_err"] = d.mu_s_err();
-    out[p + "mu_2"] = d.mu_2(), out[p + "mu_2_err"] = d.mu_2_err();
-    out[p + "I_0"] = d.i_0(), out[p + "I_0_err"] = d.i_0_err();
-    out[p + "mu_chi2_red"] = d.mu.chi2_red, out[p + "mu_dof"] = d.mu.dof;
-    out[p + "mu_max_residual"] = d.mu.max_abs_residual();
-    out[p + "phi_c"] = d.phi_c(), out[p + "phi_c_err"] = d.phi_c_err();
-    out[p + "a"] = d.a(), out[p + "a_err"] = d.a_err();
-    out[p + "phi_chi2_red"] = d.phi.chi2_red, out[p + "phi_dof"] = d.phi.dof;
-    out[p + "phi_max_residual"] = d.phi.max_abs_residual();
-    out[p + "mu_s_published_deviation"] = d.mu_s_published_deviation();
-    out[p + "phi_c_published_deviation"] = d.phi_c_published_deviation();
+    for (const auto& [name, value] : dry_fit_numbers(d)) out[p + name] = value;
   }
   if (!f.wet) return out;
   const MixedNumberLawFit& m = f.mixed;
@@ -297,21 +312,34 @@ inline std::string dem_fits_markdown(const DemFits& f, const DemSteadyTable& t) 
   if (!f.dry.empty()) {
     md +=
         "## μ(I) and φ(I) fits (weighted by the DEM standard errors)\n\n"
-        "μ(I) = μ_s + (μ_2 − μ_s)/(1 + I_0/I), φ(I) = φ_c − a I (model.md §7). Residuals are "
-        "(DEM − fit)/SE; χ²_red ≈ 1 when the points lie on the law within their error bars.\n\n"
-        "| μ_p | points | μ_s | μ_2 | I_0 | χ²_red μ | max \\|res\\| μ | φ_c | a | χ²_red φ | "
-        "max \\|res\\| φ | published μ_s, φ_c "
-        "|\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "The law is chosen per friction (dem_coupling/kind/inertial_law_fit.hpp): GDR MiDi for "
+        "frictional spheres, μ(I) = μ_s + (μ_2 − μ_s)/(1 + I_0/I), φ(I) = φ_c − a I (model.md "
+        "§7); Peyneau & Roux 2008 for frictionless spheres, μ(I) = μ_0 + c I^α, φ(I) = φ_RCP − "
+        "b I^β; every parameter fitted. Residuals are (DEM − fit)/SE; χ²_red ≈ 1 when the points "
+        "lie on the law within their error bars. μ(0) and φ(0) are the I → 0 limits (μ_s or μ_0, "
+        "φ_c or φ_RCP).\n\n"
+        "| μ_p | law | points | μ(I) parameters | χ²_red μ (dof) | max \\|res\\| μ | φ(I) "
+        "parameters | χ²_red φ (dof) | max \\|res\\| φ | published μ(0), φ(0) "
+        "|\n|---|---|---|---|---|---|---|---|---|---|\n";
+    auto parameters = [&](const LeastSquaresFit& fit, const std::vector<std::string>& names) {
+      std::string text;
+      for (std::size_t j = 0; j < names.size(); ++j)
+        text += fmt::format(
+            "{}{} = {} ± {}", j ? ", " : "", names[j],
+            num(j < std::size_t(fit.estimate.size()) ? fit.estimate[j] : NAN),
+            num(j < std::size_t(fit.standard_error.size()) ? fit.standard_error[j] : NAN,
+                "{:.2g}"));
+      return text + (fit.at_bound ? " (on a bound)" : "");
+    };
     for (const InertialLawFit& d : f.dry) {
       const auto pub = published_dem_law(d.particle_friction);
+      const DryLawText text = dry_law_text(d.law);
       md += fmt::format(
-          "| {:g} | {} | {} ± {} | {} ± {} | {} ± {} | {} | {} | {} ± {} | {} ± {} | {} | {} | {} "
-          "|\n",
-          d.particle_friction, d.inertial.size(), num(d.mu_s()), num(d.mu_s_err(), "{:.2g}"),
-          num(d.mu_2()), num(d.mu_2_err(), "{:.2g}"), num(d.i_0()), num(d.i_0_err(), "{:.2g}"),
-          num(d.mu.chi2_red, "{:.3g}"), num(d.mu.max_abs_residual(), "{:.2g}"), num(d.phi_c()),
-          num(d.phi_c_err(), "{:.2g}"), num(d.a()), num(d.a_err(), "{:.2g}"),
-          num(d.phi.chi2_red, "{:.3g}"), num(d.phi.max_abs_residual(), "{:.2g}"),
+          "| {:g} | {} | {} | {} | {} ({}) | {} | {} | {} ({}) | {} | {} |\n", d.particle_friction,
+          dry_law_name(d.law), d.inertial.size(), parameters(d.mu, text.friction_parameters),
+          num(d.mu.chi2_red, "{:.3g}"), d.mu.dof, num(d.mu.max_abs_residual(), "{:.2g}"),
+          parameters(d.phi, text.solid_fraction_parameters), num(d.phi.chi2_red, "{:.3g}"),
+          d.phi.dof, num(d.phi.max_abs_residual(), "{:.2g}"),
           pub ? fmt::format("{}, {:g} ({})",
                             pub->mu_s_high > pub->mu_s_low
                                 ? fmt::format("{:g}-{:g}", pub->mu_s_low, pub->mu_s_high)
@@ -320,8 +348,8 @@ inline std::string dem_fits_markdown(const DemFits& f, const DemSteadyTable& t) 
               : std::string("-"));
     }
     md +=
-        "\nAgainst the published DEM values: μ_s outside the published range by (SE; 0 = "
-        "inside) and φ_c − published φ_c (SE):";
+        "\nAgainst the published DEM values: μ(0) outside the published range by (SE; 0 = "
+        "inside) and φ(0) − published value (SE):";
     for (const InertialLawFit& d : f.dry)
       md += fmt::format(" μ_p = {:g}: {} and {};", d.particle_friction,
                         num(d.mu_s_published_deviation(), "{:+.2f}"),

@@ -50,9 +50,11 @@ TEST(DemReport, DrySweepFitsAreRederivedFromResultH5) {
         mp.push_back(m);
         I.push_back(i);
         Ie.push_back(1e-3 * i);
-        mu.push_back(dem::inertial_friction_law(i, m > 0 ? 0.37 : 0.1, m > 0 ? 0.64 : 0.3, 0.28));
+        // Frictional: GDR MiDi; frictionless: Peyneau & Roux (the laws the fits choose).
+        mu.push_back(m > 0 ? dem::inertial_friction_law(i, 0.37, 0.64, 0.28)
+                           : 0.1 + 0.39 * std::pow(i, 0.42));
         mue.push_back(0.005);
-        phi.push_back((m > 0 ? 0.587 : 0.639) - 0.25 * i);
+        phi.push_back(m > 0 ? 0.587 - 0.25 * i : 0.639 - 0.15 * std::pow(i, 0.77));
         phie.push_back(0.001);
       }
     h5.write("/steady/particle_friction", mp, "1", "");
@@ -75,8 +77,12 @@ TEST(DemReport, DrySweepFitsAreRederivedFromResultH5) {
   // Exact data: the fitted constants are those of the table (1e-6: LM tolerance, see
   // test_inertial_law_fit.cpp).
   EXPECT_NEAR(s.get("fit.mu_p_0p5.mu_s"), 0.37, 1e-6);
-  EXPECT_NEAR(s.get("fit.frictionless.mu_s"), 0.10, 1e-6);
-  EXPECT_NEAR(s.get("fit.frictionless.phi_c"), 0.639, 1e-10);
+  EXPECT_NEAR(s.get("fit.frictionless.mu_0"), 0.10, 1e-6);
+  EXPECT_NEAR(s.get("fit.frictionless.phi_rcp"), 0.639, 1e-6);
+  EXPECT_EQ(s.get("fit.frictionless.phi_c"), s.get("fit.frictionless.phi_rcp"));  // I → 0 limit
+  EXPECT_EQ(core::read_string_attribute(dir / "result.h5", "/fits/frictionless", "law"),
+            "peyneau_roux");
+  EXPECT_EQ(core::read_string_attribute(dir / "result.h5", "/fits/mu_p_0p5", "law"), "gdr_midi");
   EXPECT_NEAR(s.get("fit.mu_p_0p5.a"), 0.25, 1e-9);
   // /fits holds the same numbers as summary.json.
   EXPECT_EQ(core::read_number_attribute(dir / "result.h5", "/fits/mu_p_0p5", "mu_s"),
