@@ -85,7 +85,7 @@ fix             gf_shear all deform 1 xy erate 50 remap v
 """
 
 FLUID = ("fix fluid all fluid/le viscosity 0.01 permeability seed_eq26 drag yes rotation yes "
-         "lubrication 5e-5 1e-6 tangential yes")
+         "lubrication 5e-5 1e-6 tangential yes sums sampled")
 
 
 def run(driver, workdir, fluid, ranks, steps):
@@ -114,6 +114,11 @@ BREAKDOWN = {
     "drag + normal lubrication (tangential no)": FLUID.replace("tangential yes", "tangential no"),
     "all fluid forces": FLUID,
     "all fluid forces, reach skin": FLUID + " reach skin",
+    "all fluid forces, sums every step": FLUID.replace("sums sampled", "sums every"),
+    "all fluid forces, h_max = 0.025 d": FLUID.replace("5e-5 1e-6", "2.5e-5 1e-6"),
+    "all fluid forces, h_max = 0.1 d": FLUID.replace("5e-5 1e-6", "1e-4 1e-6"),
+    "all fluid forces, h_max = 0.025 d, reach skin": FLUID.replace("5e-5 1e-6", "2.5e-5 1e-6")
+                                                    + " reach skin",
 }
 
 
@@ -125,7 +130,8 @@ def breakdown(driver, workdir, steps):
         os.makedirs(d, exist_ok=True)
         wet = "fluid/le" in fluid
         # the mean number of lubricated pairs over the run (entry 27 of fix fluid/le)
-        count = ("fix pairs all ave/time 10 1 10 f_fluid[27] ave running\n"
+        # (every 100 steps, with thermo: `sums sampled` forms the sums where the virial is tallied)
+        count = ("fix pairs all ave/time 100 1 100 f_fluid[27] ave running\n"
                  "thermo_style custom step atoms ke c_gf_virial[2] f_pairs\n") if wet else ""
         with open(os.path.join(d, "in.bench"), "w") as f:
             f.write(DECK.format(steps=100, sample=100, fluid=fluid) + count + f"run {steps}\n")
@@ -152,7 +158,7 @@ def breakdown(driver, workdir, steps):
               f"{t['Other']:.3f} | {sum(t.values()):.3f} | "
               f"{'' if pairs is None else f'{pairs:.0f}'} |")
     drag_other = rows[3][1]["Other"]
-    for name, t, pairs in rows[4:6]:
+    for name, t, pairs in rows[4:]:
         print(f"\nlubrication cost, {name}: ({t['Other']:.3f} - {drag_other:.3f}) ms / "
               f"{pairs:.0f} pairs = {(t['Other'] - drag_other) / pairs * 1e6:.1f} ns per pair")
     dry = sum(rows[0][1].values())

@@ -89,6 +89,22 @@ class FixFluidLE : public LAMMPS_NS::Fix {
     }
   };
   LubricatedPairs pairs_;
+  // Candidate pairs of this rank (update_candidates), rebuilt with the neighbour list.
+  struct Candidate {
+    int i, j, target;  // target: where j's force goes (j, its owned image, or -1: other rank)
+  };
+  struct Candidates {
+    std::vector<Candidate> owned, images, remote, all;  // all = owned, images, remote in order
+    std::size_t end[3] = {0, 0, 0};                     // ends of the three kinds in all
+    LAMMPS_NS::bigint build = -1;
+  };
+  Candidates candidates_;
+  void update_candidates();
+  // `sums sampled`: virials, dissipation and pair count only on the steps that read them (a
+  // compute tallies the virial, the last step of a run, setup); `sums every`: every step.
+  bool sums_every_step_ = true;
+  bool setup_pending_ = false;
+  LAMMPS_NS::bigint sums_step_ = -1;
   // For each ghost (index - nlocal): the local index of the owned atom it is a periodic image
   // of, or -1 if the atom is owned by another rank; rebuilt when the ghosts are (with every
   // neighbour build: neighbor->ncalls counts them).
@@ -106,7 +122,7 @@ class FixFluidLE : public LAMMPS_NS::Fix {
   double corners_at_build_[8][3] = {};
   LAMMPS_NS::bigint hold_build_ = -1;
   void hold_build_positions();
-  void lubrication_forces(std::array<double, fluid_le_vector::size>& acc);
+  void lubrication_forces(std::array<double, fluid_le_vector::size>& acc, bool sums);
 };
 
 bool FixFluidLE::parse_yes_no(const char* keyword, const char* value) const {
@@ -184,10 +200,17 @@ FixFluidLE::FixFluidLE(LAMMPS_NS::LAMMPS* lmp, int narg, char** arg) : Fix(lmp, 
         fail("fix fluid/le: keyword reach expects factor or skin, got " + value);
       reach_by_skin_ = value == "skin";
       i += 2;
+    } else if (key == "sums") {
+      need(1);
+      const std::string value = arg[i + 1];
+      if (value != "every" && value != "sampled")
+        fail("fix fluid/le: keyword sums expects every or sampled, got " + value);
+      sums_every_step_ = value == "every";
+      i += 2;
     } else {
       fail("fix fluid/le: unknown keyword " + key +
            " (expected viscosity, permeability, sphericity, drag, rotation, lubrication, "
-           "tangential, reach)");
+           "tangential, reach, sums)");
     }
   }
   if (!have_viscosity || !have_permeability)
@@ -393,10 +416,18 @@ void FixFluidLE::setup(int vflag) {
     if (logfile) std::fputs(text.c_str(), logfile);
   }
   report_time_scales_ = false;
+  candidates_.build = -1;  // group or list may have changed between runs
+  setup_pending_ = true;
   post_force(vflag);
 }
 
-void FixFluidLE::post_force(int /*vflag*/) {
+void FixFluidLE::post_force(int vflag) {
+  // The sums (virials, dissipation, pair count) cost ~15 % of the pair loop; with `sums sampled`
+  // they are formed only when read: vflag (compute pressure tallies the virial this step), the
+  // last step of a run (granflow-dem samples there), setup.
+  const bool sums =
+      sums_every_step_ || vflag != 0 || setup_pending_ || update->ntimestep == update->laststep;
+  setup_pending_ = false;
   double** x = atom->x;
   double** v = atom->v;
   double** f = atom->f;
@@ -468,7 +499,8 @@ void FixFluidLE::post_force(int /*vflag*/) {
   }
 
   // (b) pairwise lubrication on the granular half list.
-  if (settings_.lubrication && atom->nlocal + atom->nghost > 0) lubrication_forces(acc);
+  if (settings_.lubrication && atom->nlocal + atom->nghost > 0) lubrication_forces(acc, sums);
+  if (!sums) return;  // forces applied; the last sums stay, marked by sums_step_
 
   for (int k = 0; k < 6; ++k) {
     acc[vec::drag + k] = w_drag[k];
@@ -480,6 +512,7 @@ void FixFluidLE::post_force(int /*vflag*/) {
   acc[vec::shear_rate] = flow.L[0][1];
   local_ = acc;
   last_reduce_ = -1;  // new forces: reduce again on the next request
+  sums_step_ = update->ntimestep;
 }
 
 // Which ghosts are periodic images of atoms owned by this rank (atom->map gives the owned copy
@@ -498,29 +531,166 @@ void FixFluidLE::update_ghost_owners() {
   ghost_owner_build_ = neighbor->ncalls;
 }
 
-// Normal and tangential lubrication of the pairs within h_max, on the granular half list
-// (newton off). A pair with an owned j is listed once and updates both. A pair with a ghost j
-// is listed by both owners: if j's atom is owned by this rank too (a periodic image: on one rank
-// every ghost is), the pair is computed once, by the owner with the smaller tag, and updates i
-// and j's atom; if j's atom is on another rank, each owner applies its own half and counts the
-// pair's virial and dissipation with weight 1/2. Four passes over flat arrays, so that each is a
-// short loop of independent iterations (no long sqrt -> division -> log -> force dependency
-// chain per pair):
-//   1. select the listed pairs within h_max, compacted without a data-dependent branch, owned j
-//      from the front of the buffers and ghost j from the back; then sort the ghost pairs into
-//      periodic images (kept once) and pairs with another rank;
+// The lubrication candidates: every pair of the granular half list (newton off) whose
+// lubrication this rank computes, rebuilt with the list (neighbor->ncalls counts the builds) and
+// at setup, ordered [owned j | periodic image | other rank]. A pair with an owned j is listed
+// once and updates both. A pair with a ghost j is listed by both owners: if j's atom is owned by
+// this rank too (a periodic image: on one rank every ghost is), the pair is kept once, by the
+// owner with the smaller tag (a sphere and its own image, only in boxes narrower than the list
+// reach, stays in the half-weight group), and updates i and j's atom (target); if j's atom is on
+// another rank, each owner applies its own half and counts the virial and dissipation with
+// weight 1/2. Group membership is applied here too. Per step only the distance test remains.
+void FixFluidLE::update_candidates() {
+  if (ghost_owner_build_ != neighbor->ncalls) update_ghost_owners();
+  const LAMMPS_NS::NeighList* list = force->pair->list;
+  const int* mask = atom->mask;
+  const int* tag = atom->tag;
+  const int nlocal = atom->nlocal;
+  const bool whole_system = groupbit == 1;  // group all: every atom (and ghost) is in it
+  Candidates& c = candidates_;
+  for (auto* kind : {&c.owned, &c.images, &c.remote}) kind->clear();  // capacity is kept
+  for (int ii = 0; ii < list->inum; ++ii) {
+    const int i = list->ilist[ii];
+    if (!(mask[i] & groupbit)) continue;
+    const int* jlist = list->firstneigh[i];
+    for (int jj = 0; jj < list->numneigh[i]; ++jj) {
+      const int j = jlist[jj] & NEIGHMASK;
+      if (!whole_system && !(mask[j] & groupbit)) continue;
+      if (j < nlocal) {
+        c.owned.push_back({i, j, j});
+        continue;
+      }
+      const int owner = ghost_owner_[j - nlocal];
+      if (owner >= 0 && tag[i] != tag[j]) {
+        if (tag[i] < tag[j]) c.images.push_back({i, j, owner});
+      } else {
+        c.remote.push_back({i, j, -1});
+      }
+    }
+  }
+  c.all.clear();
+  for (auto* kind : {&c.owned, &c.images, &c.remote})
+    c.all.insert(c.all.end(), kind->begin(), kind->end());
+  c.end[0] = c.owned.size();
+  c.end[1] = c.end[0] + c.images.size();
+  c.end[2] = c.end[1] + c.remote.size();
+  pairs_.grow(c.all.size());
+  c.build = neighbor->ncalls;
+}
+
+namespace {
+
+// Pass 4 of the pair loop for one kind of pair: forces, torques and, when the step's sums are
+// wanted, virials and dissipation. Kind 0: owned j (j updated); 1: periodic image (j's atom,
+// target, updated); 2: j on another rank (j left to its owner; the caller weights the sums 1/2).
+struct PairForceArrays {
+  const int *i, *j, *target;
+  const double *inverse_distance, *normal, *tangential;
+  const double *radius, *x, *v, *omega;
+  double *f, *torque;
+};
+struct PairForceSums {
+  double normal[6] = {0, 0, 0, 0, 0, 0}, tangential[6] = {0, 0, 0, 0, 0, 0}, dissipation = 0.0;
+};
+
+template <int kind, bool tangential, bool sums>
+PairForceSums pair_forces(const PairForceArrays& a, std::size_t begin, std::size_t end) {
+  const int* __restrict pair_i = a.i;
+  const int* __restrict pair_j = a.j;
+  const int* __restrict pair_target = a.target;
+  const double* __restrict radius = a.radius;
+  const double* __restrict xf = a.x;
+  const double* __restrict vf = a.v;
+  const double* __restrict wf = a.omega;
+  double* __restrict ff = a.f;
+  double* __restrict tf = a.torque;
+  constexpr bool j_updated = kind < 2;
+  double sn[6] = {0, 0, 0, 0, 0, 0}, st[6] = {0, 0, 0, 0, 0, 0}, dissipation = 0.0;
+  for (std::size_t p = begin; p < end; ++p) {
+    const int i = pair_i[p], j = pair_j[p];
+    const int jt = pair_target[p];  // where j's force and torque go (kinds 0 and 1)
+    const double del[3] = {xf[3 * i] - xf[3 * j], xf[3 * i + 1] - xf[3 * j + 1],
+                           xf[3 * i + 2] - xf[3 * j + 2]};
+    const double inverse_r = a.inverse_distance[p];
+    const double n[3] = {del[0] * inverse_r, del[1] * inverse_r,
+                         del[2] * inverse_r};  // from j to i
+    // Ghost velocities carry the Lees-Edwards shift (fix deform remap v).
+    const double dv[3] = {vf[3 * i] - vf[3 * j], vf[3 * i + 1] - vf[3 * j + 1],
+                          vf[3 * i + 2] - vf[3 * j + 2]};
+    const double vn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2];
+    const double fn = -a.normal[p] * vn;  // F_n = -c_n v_n n
+    double F[3] = {fn * n[0], fn * n[1], fn * n[2]};
+    if constexpr (sums) {
+      dissipation -= fn * vn;  // c_n v_n²
+      sn[0] += del[0] * F[0];
+      sn[1] += del[1] * F[1];
+      sn[2] += del[2] * F[2];
+      sn[3] += del[0] * F[1];
+      sn[4] += del[0] * F[2];
+      sn[5] += del[1] * F[2];
+    }
+    if constexpr (tangential) {
+      const double ri = radius[i], rj = radius[j];
+      // tangential part of the relative surface velocity at the gap,
+      // v_t = v_ij - (r_i ω_i + r_j ω_j) × n - v_n n (the cross product is normal to n)
+      const double s[3] = {ri * wf[3 * i] + rj * wf[3 * j], ri * wf[3 * i + 1] + rj * wf[3 * j + 1],
+                           ri * wf[3 * i + 2] + rj * wf[3 * j + 2]};
+      const double vt[3] = {dv[0] - vn * n[0] - (s[1] * n[2] - s[2] * n[1]),
+                            dv[1] - vn * n[1] - (s[2] * n[0] - s[0] * n[2]),
+                            dv[2] - vn * n[2] - (s[0] * n[1] - s[1] * n[0])};
+      const double ct = a.tangential[p];
+      const double Ft[3] = {-ct * vt[0], -ct * vt[1], -ct * vt[2]};
+      if constexpr (sums) {
+        dissipation -= Ft[0] * vt[0] + Ft[1] * vt[1] + Ft[2] * vt[2];  // c_t |v_t|²
+        st[0] += del[0] * Ft[0];
+        st[1] += del[1] * Ft[1];
+        st[2] += del[2] * Ft[2];
+        st[3] += del[0] * Ft[1];
+        st[4] += del[0] * Ft[2];
+        st[5] += del[1] * Ft[2];
+      }
+      for (int c = 0; c < 3; ++c) F[c] += Ft[c];
+      // torque of F_t at the surface point -r_i n of i (and +r_j n with -F_t on j)
+      const double nxF[3] = {n[1] * Ft[2] - n[2] * Ft[1], n[2] * Ft[0] - n[0] * Ft[2],
+                             n[0] * Ft[1] - n[1] * Ft[0]};
+      for (int c = 0; c < 3; ++c) tf[3 * i + c] -= ri * nxF[c];
+      if constexpr (j_updated)
+        for (int c = 0; c < 3; ++c) tf[3 * jt + c] -= rj * nxF[c];
+    }
+    for (int c = 0; c < 3; ++c) ff[3 * i + c] += F[c];
+    if constexpr (j_updated)
+      for (int c = 0; c < 3; ++c) ff[3 * jt + c] -= F[c];
+  }
+  PairForceSums out;
+  for (int k = 0; k < 6; ++k) {
+    out.normal[k] = sn[k];
+    out.tangential[k] = st[k];
+  }
+  out.dissipation = dissipation;
+  return out;
+}
+
+template <bool tangential, bool sums>
+std::array<PairForceSums, 3> pair_forces_all(const PairForceArrays& a,
+                                             const std::size_t (&bounds)[4]) {
+  return {pair_forces<0, tangential, sums>(a, bounds[0], bounds[1]),
+          pair_forces<1, tangential, sums>(a, bounds[1], bounds[2]),
+          pair_forces<2, tangential, sums>(a, bounds[2], bounds[3])};
+}
+
+}  // namespace
+
+// Normal and tangential lubrication of the candidate pairs within h_max, in four passes over
+// flat arrays, so that each is a short loop of independent iterations (no long sqrt -> division
+// -> log -> force dependency chain per pair):
+//   1. select the candidates within h_max, compacted without a data-dependent branch, kinds in
+//      order [owned j | periodic image | other rank];
 //   2. geometry and resistances (pair_lubrication_terms: one sqrt and one division per pair);
 //   3. the log(1/ξ) of the tangential mode, all pairs back to back;
-//   4. forces, torques, virials and dissipation from the velocities.
-void FixFluidLE::lubrication_forces(std::array<double, vec::size>& acc) {
+//   4. forces, torques and (on the steps that want them) virials and dissipation.
+void FixFluidLE::lubrication_forces(std::array<double, vec::size>& acc, bool sums) {
   if (reach_by_skin_ && hold_build_ != neighbor->ncalls) hold_build_positions();
-  const LAMMPS_NS::NeighList* list = force->pair->list;
-  const int inum = list->inum;
-  const int* ilist = list->ilist;
-  const int* numneigh = list->numneigh;
-  int** firstneigh = list->firstneigh;
-  const int* mask = atom->mask;
-  const int nlocal = atom->nlocal;
+  if (candidates_.build != neighbor->ncalls) update_candidates();
   const double eta = settings_.liquid.viscosity;
   const double h_max = settings_.maximum_gap, h_min = settings_.minimum_gap;
   const bool tangential = settings_.tangential_lubrication;
@@ -528,171 +698,79 @@ void FixFluidLE::lubrication_forces(std::array<double, vec::size>& acc) {
   // neighbour costs one load per quantity instead of a pointer chase.
   const double* __restrict radius = atom->radius;
   const double* __restrict xf = atom->x[0];
-  const double* __restrict vf = atom->v[0];
-  const double* __restrict wf = atom->omega[0];
-  double* __restrict ff = atom->f[0];
-  double* __restrict tf = atom->torque[0];
-  const bool whole_system = groupbit == 1;  // group all: every atom (and ghost) is in it
-
-  std::size_t entries = 0;
-  for (int ii = 0; ii < inum; ++ii) entries += numneigh[ilist[ii]];
-  pairs_.grow(entries);
-  const std::size_t top = pairs_.i.size();
   int* __restrict pair_i = pairs_.i.data();
   int* __restrict pair_j = pairs_.j.data();
+  int* __restrict pair_target = pairs_.target.data();
   double* __restrict inverse_distance = pairs_.inverse_distance.data();
   double* __restrict normal = pairs_.normal.data();
   double* __restrict tangential_resistance = pairs_.tangential.data();
   double* __restrict log_argument = pairs_.log_argument.data();
 
-  // Pass 1. Both slots are written every iteration and the right counter advances; owned +
-  // ghost stays below the entries seen, so the two ends never overwrite a kept pair.
-  std::size_t owned = 0, ghost = 0;
-  for (int ii = 0; ii < inum; ++ii) {
-    const int i = ilist[ii];
-    if (!(mask[i] & groupbit)) continue;
-    const double ri_reach = radius[i] + h_max;
-    const double xi[3] = {xf[3 * i], xf[3 * i + 1], xf[3 * i + 2]};
-    const int* jlist = firstneigh[i];
-    const int count = numneigh[i];
-    for (int jj = 0; jj < count; ++jj) {
-      const int j = jlist[jj] & NEIGHMASK;
-      const double del[3] = {xi[0] - xf[3 * j], xi[1] - xf[3 * j + 1], xi[2] - xf[3 * j + 2]};
-      const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
-      const double reach = ri_reach + radius[j];
-      const bool lubricated = (rsq < reach * reach) & (whole_system || (mask[j] & groupbit));
-      const bool j_owned = j < nlocal;
-      pair_i[owned] = i;
-      pair_j[owned] = j;
-      pair_i[top - 1 - ghost] = i;
-      pair_j[top - 1 - ghost] = j;
-      owned += lubricated & j_owned;
-      ghost += lubricated & !j_owned;
-    }
-  }
-  // Pass 1b: periodic images to [owned, owned + images) once (smaller tag first; a sphere and
-  // its own image, only in boxes narrower than the list reach, stays in the half-weight group),
-  // pairs with other ranks compacted to [top - ghost, top - ghost + half).
-  if (ghost_owner_build_ != neighbor->ncalls) update_ghost_owners();
-  const int* tag = atom->tag;
-  int* __restrict pair_target = pairs_.target.data();
-  std::size_t images = 0, half = 0;
-  const std::size_t remote_begin = top - ghost;
-  for (std::size_t p = remote_begin; p < top; ++p) {
-    const int i = pair_i[p], j = pair_j[p];
-    const int owner = ghost_owner_[j - nlocal];
-    if (owner >= 0 && tag[i] != tag[j]) {
-      if (tag[i] < tag[j]) {
-        pair_i[owned + images] = i;
-        pair_j[owned + images] = j;
-        pair_target[owned + images] = owner;
-        ++images;
-      }
-    } else {
-      pair_i[remote_begin + half] = i;
-      pair_j[remote_begin + half] = j;
-      ++half;
-    }
-  }
-  const std::size_t ranges[2][2] = {{0, owned + images}, {remote_begin, remote_begin + half}};
-
-  // Pass 2.
-  for (const auto& range : ranges)
-    for (std::size_t p = range[0]; p < range[1]; ++p) {
-      const int i = pair_i[p], j = pair_j[p];
+  // Pass 1. Every slot is written and the counter advances for a pair within h_max.
+  const Candidate* __restrict candidate = candidates_.all.data();
+  std::size_t bounds[4] = {0, 0, 0, 0}, n = 0;
+  for (int kind = 0; kind < 3; ++kind) {
+    for (std::size_t c = kind == 0 ? 0 : candidates_.end[kind - 1]; c < candidates_.end[kind];
+         ++c) {
+      const int i = candidate[c].i, j = candidate[c].j;
       const double del[3] = {xf[3 * i] - xf[3 * j], xf[3 * i + 1] - xf[3 * j + 1],
                              xf[3 * i + 2] - xf[3 * j + 2]};
-      const double r = std::sqrt(del[0] * del[0] + del[1] * del[1] + del[2] * del[2]);
-      const PairLubricationTerms t = pair_lubrication_terms(eta, radius[i], radius[j], r, h_min);
-      inverse_distance[p] = t.inverse_distance;
-      normal[p] = t.normal;
-      tangential_resistance[p] = t.tangential_prefactor;
-      log_argument[p] = t.log_argument;
+      const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
+      const double reach = radius[i] + radius[j] + h_max;
+      pair_i[n] = i;
+      pair_j[n] = j;
+      pair_target[n] = candidate[c].target;
+      n += rsq < reach * reach;
     }
+    bounds[kind + 1] = n;
+  }
+
+  // Pass 2.
+  for (std::size_t p = 0; p < n; ++p) {
+    const int i = pair_i[p], j = pair_j[p];
+    const double del[3] = {xf[3 * i] - xf[3 * j], xf[3 * i + 1] - xf[3 * j + 1],
+                           xf[3 * i + 2] - xf[3 * j + 2]};
+    const double r = std::sqrt(del[0] * del[0] + del[1] * del[1] + del[2] * del[2]);
+    const PairLubricationTerms t = pair_lubrication_terms(eta, radius[i], radius[j], r, h_min);
+    inverse_distance[p] = t.inverse_distance;
+    normal[p] = t.normal;
+    tangential_resistance[p] = t.tangential_prefactor;
+    log_argument[p] = t.log_argument;
+  }
 
   // Pass 3: c_t = prefactor × ln(1/ξ).
   if (tangential)
-    for (const auto& range : ranges)
-      for (std::size_t p = range[0]; p < range[1]; ++p)
-        tangential_resistance[p] *= std::log(log_argument[p]);
+    for (std::size_t p = 0; p < n; ++p) tangential_resistance[p] *= std::log(log_argument[p]);
 
-  // Pass 4, for the owned-j pairs (weight 1, j updated), the periodic images (weight 1, j's
-  // atom updated) and the pairs with other ranks (weight 1/2, j left to its owner). Sums in
-  // registers, weighted at the end.
-  const std::size_t kinds[3][2] = {
-      {0, owned}, {owned, owned + images}, {remote_begin, remote_begin + half}};
-  double wn[3][6] = {}, wt[3][6] = {}, dissipation[3] = {0.0, 0.0, 0.0};
-  for (int kind = 0; kind < 3; ++kind) {
-    const bool j_updated = kind < 2;
-    double sn[6] = {0, 0, 0, 0, 0, 0}, st[6] = {0, 0, 0, 0, 0, 0}, pair_dissipation = 0.0;
-    for (std::size_t p = kinds[kind][0]; p < kinds[kind][1]; ++p) {
-      const int i = pair_i[p], j = pair_j[p];
-      const int jt = kind == 0 ? j : pair_target[p];  // where j's force and torque go
-      const double del[3] = {xf[3 * i] - xf[3 * j], xf[3 * i + 1] - xf[3 * j + 1],
-                             xf[3 * i + 2] - xf[3 * j + 2]};
-      const double inverse_r = inverse_distance[p];
-      const double n[3] = {del[0] * inverse_r, del[1] * inverse_r,
-                           del[2] * inverse_r};  // from j to i
-      // Ghost velocities carry the Lees-Edwards shift (fix deform remap v).
-      const double dv[3] = {vf[3 * i] - vf[3 * j], vf[3 * i + 1] - vf[3 * j + 1],
-                            vf[3 * i + 2] - vf[3 * j + 2]};
-      const double vn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2];
-      const double fn = -normal[p] * vn;  // F_n = -c_n v_n n
-      const double Fn[3] = {fn * n[0], fn * n[1], fn * n[2]};
-      double F[3] = {Fn[0], Fn[1], Fn[2]};
-      pair_dissipation -= fn * vn;  // c_n v_n²
-      sn[0] += del[0] * Fn[0];
-      sn[1] += del[1] * Fn[1];
-      sn[2] += del[2] * Fn[2];
-      sn[3] += del[0] * Fn[1];
-      sn[4] += del[0] * Fn[2];
-      sn[5] += del[1] * Fn[2];
-      if (tangential) {
-        const double ri = radius[i], rj = radius[j];
-        // tangential part of the relative surface velocity at the gap,
-        // v_t = v_ij - (r_i ω_i + r_j ω_j) × n - v_n n (the cross product is normal to n)
-        const double s[3] = {ri * wf[3 * i] + rj * wf[3 * j],
-                             ri * wf[3 * i + 1] + rj * wf[3 * j + 1],
-                             ri * wf[3 * i + 2] + rj * wf[3 * j + 2]};
-        const double vt[3] = {dv[0] - vn * n[0] - (s[1] * n[2] - s[2] * n[1]),
-                              dv[1] - vn * n[1] - (s[2] * n[0] - s[0] * n[2]),
-                              dv[2] - vn * n[2] - (s[0] * n[1] - s[1] * n[0])};
-        const double ct = tangential_resistance[p];
-        const double Ft[3] = {-ct * vt[0], -ct * vt[1], -ct * vt[2]};
-        pair_dissipation -= Ft[0] * vt[0] + Ft[1] * vt[1] + Ft[2] * vt[2];  // c_t |v_t|²
-        st[0] += del[0] * Ft[0];
-        st[1] += del[1] * Ft[1];
-        st[2] += del[2] * Ft[2];
-        st[3] += del[0] * Ft[1];
-        st[4] += del[0] * Ft[2];
-        st[5] += del[1] * Ft[2];
-        for (int a = 0; a < 3; ++a) F[a] += Ft[a];
-        // torque of F_t at the surface point -r_i n of i (and +r_j n with -F_t on j)
-        const double nxF[3] = {n[1] * Ft[2] - n[2] * Ft[1], n[2] * Ft[0] - n[0] * Ft[2],
-                               n[0] * Ft[1] - n[1] * Ft[0]};
-        for (int a = 0; a < 3; ++a) tf[3 * i + a] -= ri * nxF[a];
-        if (j_updated)
-          for (int a = 0; a < 3; ++a) tf[3 * jt + a] -= rj * nxF[a];
-      }
-      for (int a = 0; a < 3; ++a) ff[3 * i + a] += F[a];
-      if (j_updated)
-        for (int a = 0; a < 3; ++a) ff[3 * jt + a] -= F[a];
-    }
-    for (int k = 0; k < 6; ++k) {
-      wn[kind][k] = sn[k];
-      wt[kind][k] = st[k];
-    }
-    dissipation[kind] = pair_dissipation;
+  // Pass 4 (sums in registers, weighted at the end).
+  const PairForceArrays arrays{
+      pair_i, pair_j, pair_target, inverse_distance, normal,     tangential_resistance,
+      radius, xf,     atom->v[0],  atom->omega[0],   atom->f[0], atom->torque[0]};
+  if (!sums) {
+    if (tangential)
+      pair_forces_all<true, false>(arrays, bounds);
+    else
+      pair_forces_all<false, false>(arrays, bounds);
+    return;
   }
-  for (int k = 0; k < 6; ++k) {
-    acc[vec::lubrication_normal + k] = wn[0][k] + wn[1][k] + 0.5 * wn[2][k];
-    acc[vec::lubrication_tangential + k] = wt[0][k] + wt[1][k] + 0.5 * wt[2][k];
+  const std::array<PairForceSums, 3> k = tangential ? pair_forces_all<true, true>(arrays, bounds)
+                                                    : pair_forces_all<false, true>(arrays, bounds);
+  for (int c = 0; c < 6; ++c) {
+    acc[vec::lubrication_normal + c] = k[0].normal[c] + k[1].normal[c] + 0.5 * k[2].normal[c];
+    acc[vec::lubrication_tangential + c] =
+        k[0].tangential[c] + k[1].tangential[c] + 0.5 * k[2].tangential[c];
   }
-  acc[vec::lubricated_pairs] = double(owned + images) + 0.5 * double(half);
-  acc[vec::lubrication_dissipation] = dissipation[0] + dissipation[1] + 0.5 * dissipation[2];
+  acc[vec::lubricated_pairs] = double(bounds[2]) + 0.5 * double(bounds[3] - bounds[2]);
+  acc[vec::lubrication_dissipation] = k[0].dissipation + k[1].dissipation + 0.5 * k[2].dissipation;
 }
 
 double FixFluidLE::compute_vector(int n) {
+  if (sums_step_ != update->ntimestep)
+    fail(fmt::format(
+        "fix fluid/le: vector requested at step {} but its sums were last formed at step {} "
+        "('sums sampled' forms them only when a compute tallies the virial and at the end of "
+        "a run; use 'sums every' to read them at other steps)",
+        long(update->ntimestep), long(sums_step_)));
   if (last_reduce_ != update->ntimestep) {
     // kinetic stress about the streaming velocity, from the current velocities
     const Flow flow = current_flow();

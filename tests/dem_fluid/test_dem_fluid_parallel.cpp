@@ -53,17 +53,21 @@ std::string lattice_data(double shift_y, double flow_rate = shear_rate) {
       fmt::arg("L", box), fmt::arg("a", atoms), fmt::arg("v", velocities));
 }
 
-// `refine` divides the time step (and multiplies the step counts) by that factor.
-std::string lattice_deck(bool two_ranks, int refine) {
+// `refine` divides the time step (and multiplies the step counts) by that factor; `fix_options`
+// are appended to the fix line; the sums are printed every `print_every` steps (thermo, hence
+// the virial tally, every `every`).
+std::string lattice_deck(bool two_ranks, int refine, const std::string& fix_options = "",
+                         long print_every = every) {
   std::string deck = deck_preamble(
       std::string(two_ranks ? "processors 1 2 1\n" : "") + "read_data lattice.data", dt / refine);
   deck += fmt::format(R"(neighbor        0.00001 bin
 fix             integr all nve/sphere
 fix             gf_shear all deform 1 xy erate {gd} remap v
-fix             fl all fluid/le viscosity 0.01 permeability seed_eq26 lubrication 5e-5 1e-6
+fix             fl all fluid/le viscosity 0.01 permeability seed_eq26 lubrication 5e-5 1e-6 {opt}
 thermo          {every}
 )",
-                      fmt::arg("gd", shear_rate), fmt::arg("every", every * refine));
+                      fmt::arg("gd", shear_rate), fmt::arg("every", every * refine),
+                      fmt::arg("opt", fix_options));
   std::string fields;
   for (int k : {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 19, 20, 21, 22, 23, 24, 27, 28, 29, 30}) {
     deck += fmt::format("variable f{0} equal f_fl[{0}]\n", k);
@@ -78,7 +82,7 @@ thermo          {every}
     fields += fmt::format(" ${{f{}}}", k);
   }
   deck += fmt::format("fix out all print {} \"{}\" file sums.txt screen no\nrun {}\n",
-                      every * refine, fields, steps * refine);
+                      print_every * refine, fields, steps * refine);
   return deck;
 }
 
@@ -87,10 +91,10 @@ constexpr int lub_normal = 0, lub_tangential = 6, kinetic = 12, pairs = 18, drag
               rot_diss = 20, lub_diss = 21, pressure = 22, drag_virial = 28;
 
 std::vector<std::vector<double>> run_lattice(const std::string& name, double shift_y, int ranks,
-                                             int refine = 1) {
+                                             int refine = 1, const std::string& fix_options = "") {
   const auto dir = test_dir(name);
   std::filesystem::remove_all(dir);
-  const std::string deck = lattice_deck(ranks > 1, refine);
+  const std::string deck = lattice_deck(ranks > 1, refine, fix_options);
   std::filesystem::create_directories(dir);
   // run_deck recreates the directory: write the data file through a deck-relative copy
   const RunResult r = [&] {
@@ -149,6 +153,49 @@ TEST(DemFluidParallel, SumsAreTheSameOnOneAndTwoRanks) {
                   1e-12 * std::abs(a[pressure + 1]))
           << "component " << k;
   }
+}
+
+TEST(DemFluidParallel, SampledSumsEqualEveryStepSums) {
+  // `sums sampled` forms the virials, dissipation and pair count only on the steps that read
+  // them (here thermo every 50 steps tallies the virial): the printed sums, including compute
+  // pressure's, are those of `sums every` exactly (the forces do not depend on the sums, and the
+  // sums are the same arithmetic), on 1 and 2 ranks.
+  const auto every_step = run_lattice("lattice_sums_every", 0.4 * box, 1);
+  const auto sampled = run_lattice("lattice_sums_sampled", 0.4 * box, 1, 1, "sums sampled");
+  const auto sampled_two = run_lattice("lattice_sums_sampled_2", 0.4 * box, 2, 1, "sums sampled");
+  ASSERT_EQ(every_step.size(), std::size_t(steps / every));
+  ASSERT_EQ(sampled.size(), every_step.size());
+  ASSERT_EQ(sampled_two.size(), every_step.size());
+  for (std::size_t s = 0; s < every_step.size(); ++s) {
+    EXPECT_EQ(sampled[s], every_step[s]) << "sample " << s;
+    EXPECT_EQ(sampled_two[s][pairs], 81.0);
+    // 2 ranks sum in another order: round-off (as SumsAreTheSameOnOneAndTwoRanks)
+    EXPECT_LT(relative_difference(sampled_two[s], every_step[s], lub_normal, 6), 1e-9);
+    EXPECT_LT(relative_difference(sampled_two[s], every_step[s], pressure, 6), 1e-9);
+  }
+}
+
+TEST(DemFluidParallel, SampledSumsAreRefusedOnStepsWithoutThem) {
+  // Reading the vector at a step where nothing tallies the virial (a print of f_fl[27] every 25
+  // steps; thermo and the compute pressure print every 50) stops the run naming the step and the
+  // option, instead of returning stale sums (measured: at step 75, sums last formed at 50).
+  const auto dir = test_dir("lattice_sums_stale");
+  std::filesystem::create_directories(dir.parent_path());
+  const auto data = dir.string() + ".data";
+  std::ofstream(data) << lattice_data(0.0);
+  std::string deck = lattice_deck(false, 1, "sums sampled");
+  const std::string key = "read_data lattice.data";
+  deck.replace(deck.find(key), key.size(), "read_data " + data);
+  const std::string run = "\nrun ";
+  deck.replace(deck.rfind(run), run.size(),
+               "\nfix stale all print 25 \"${f27}\" file stale.txt screen no" + run);
+  const RunResult r = run_deck(dir, deck, 1);
+  EXPECT_NE(r.exit_code, 0);
+  std::ifstream log(dir / "log.txt");
+  const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  EXPECT_NE((text + r.output).find("but its sums were last formed at step 50"), std::string::npos)
+      << text << r.output;
+  EXPECT_NE((text + r.output).find("sums every"), std::string::npos);
 }
 
 TEST(DemFluidParallel, PairsAcrossTheShearedBoundaryActAsInTheInterior) {
