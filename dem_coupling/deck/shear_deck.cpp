@@ -192,10 +192,11 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
     const auto yes_no = [](bool b) { return b ? "yes" : "no"; };
     fluid_fix = fmt::format(
         "\n# ---- immersed: drag, rotational drag, lubrication about the Lees-Edwards flow "
-        "(docs/dem_fluid.md)\n# dt set by the {} limit (time scale {:.6g} s)\n"
+        "(docs/dem_fluid.md)\n# dt set by the {} limit (time scale {:.6g} s); the stress "
+        "split is formed only on the steps granflow-dem samples (sums sampled)\n"
         "variable gf_viscosity equal {:.17g}\n"
         "fix gf_fluid all fluid/le viscosity {:.17g} permeability {} sphericity {:.17g} drag yes "
-        "rotation {}{}\n",
+        "rotation {}{} sums sampled\n",
         step.limited_by, step.limit_time, p.wet.viscosity, p.wet.viscosity, p.wet.permeability,
         p.wet.sphericity, yes_no(p.wet.rotational_drag),
         p.wet.lubrication
@@ -210,6 +211,11 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
                                      double(out.sample_every))) *
                 out.sample_every
           : out.sample_every;
+  const long samples_per_update = out.servo_every / out.sample_every;
+  if (p.wet.enabled && p.constant_pressure && samples_per_update >= 2)
+    out.servo_move_every =
+        std::clamp(std::lround(0.4 * double(samples_per_update)), 1L, samples_per_update - 1) *
+        out.sample_every;
   const long block = p.constant_pressure ? out.servo_every : out.sample_every;
   out.total_steps =
       std::max(1L, std::lround(double(steps_for(p.total_strain, p.shear_rate, out.dt)) / block)) *
@@ -235,6 +241,7 @@ variable gf_normal_stress equal {p0:.17g}
 variable gf_servo_gain equal {gain:.17g}
 variable gf_servo_max_strain equal {servo_max:.17g}
 variable gf_servo_every equal {servo}
+variable gf_servo_move_every equal {servo_move}
 variable gf_profile_bins equal {bins}
 variable gf_particle_density equal {rho:.17g}
 
@@ -282,10 +289,10 @@ thermo          0                            # thermo (and the virial) at the en
       fmt::arg("sample", out.sample_every), fmt::arg("cp", p.constant_pressure ? 1 : 0),
       fmt::arg("p0", p.normal_stress), fmt::arg("gain", p.servo_gain),
       fmt::arg("servo_max", p.servo_max_strain), fmt::arg("servo", out.servo_every),
-      fmt::arg("bins", p.profile_bins), fmt::arg("rho", m.particle_density),
-      fmt::arg("data", data_file_name), fmt::arg("skin", skin), fmt::arg("E", m.youngs_modulus),
-      fmt::arg("nu", m.poisson_ratio), fmt::arg("e", m.restitution),
-      fmt::arg("mu", m.particle_friction), fmt::arg("dt", out.dt),
+      fmt::arg("servo_move", out.servo_move_every), fmt::arg("bins", p.profile_bins),
+      fmt::arg("rho", m.particle_density), fmt::arg("data", data_file_name), fmt::arg("skin", skin),
+      fmt::arg("E", m.youngs_modulus), fmt::arg("nu", m.poisson_ratio),
+      fmt::arg("e", m.restitution), fmt::arg("mu", m.particle_friction), fmt::arg("dt", out.dt),
       fmt::arg("thermo_comp", std::max(1L, p.compression_steps / 5)),
       fmt::arg("phi", p.solid_fraction), fmt::arg("l0", out.initial_box_length),
       fmt::arg("l1", out.box_length), fmt::arg("ncomp", p.compression_steps),

@@ -77,6 +77,11 @@ struct ShearDeck {
   FluidTimeScales fluid_times;       // wet: the time scales at the solid fraction below
   double fluid_solid_fraction = 0;   // wet: ν used for the drag time scale
   long sample_every = 0, servo_every = 0, total_steps = 0;
+  // Immersed, constant pressure: the height moves during the first servo_move_every steps of
+  // each servo interval and is held for the rest, where the servo measures σ_yy (a viscous
+  // suspension's σ_yy responds at once to the dilation rate); 2/5 of the interval in whole
+  // samples (at least one moving and one held). 0: moves over the whole interval (dry).
+  long servo_move_every = 0;
   double initial_box_length = 0, box_length = 0;  // lattice box, compressed box (m)
   double solid_volume = 0;                        // m^3
 };

@@ -13,7 +13,12 @@
 //    neighbour list), reduces the sums over ranks (one MPI_Allreduce) and rank 0 appends a row
 //    to the series file (flushed, so a run stopped by an error keeps what it wrote);
 // 4. under constant normal stress, every gf_servo_every steps rescales the box height with
-//    NormalStressServo: fix gf_shear is redefined with `y final` for the next segment.
+//    NormalStressServo: fix gf_shear is redefined with `y final` for the next segment. With
+//    gf_servo_move_every = M > 0 (immersed decks) the height moves during the first M steps of
+//    the segment and is then held (fix gf_shear back to `xy erate` only), and the servo averages
+//    σ_yy over the held part only: in a viscous suspension σ_yy responds at once to the dilation
+//    rate (lubrication and drag resist it), so a stress measured while the box moves is biased
+//    by -η_n ε̇ and the loop locks into a period-2 cycle (docs/dem_fluid.md, servo).
 // Exit codes: 0 ok, 1 LIGGGHTS error (LIGGGHTS exits itself), 2 bad arguments/deck,
 // 3 numerical failure (NaN/Inf or negative T in a sample).
 #include <mpi.h>
@@ -216,6 +221,12 @@ int main(int argc, char** argv) {
     wet = true;
     std::free(p);
   }
+  long servo_move_every = 0;  // optional: 0 = move over the whole segment
+  if (void* p =
+          lammps_extract_variable(handle, const_cast<char*>("gf_servo_move_every"), nullptr)) {
+    servo_move_every = std::lround(*static_cast<double*>(p));
+    std::free(p);
+  }
   std::optional<granflow::dem::NormalStressServo> servo;
   if (constant_pressure)
     servo.emplace(deck_variable(handle, "gf_normal_stress", rank),
@@ -225,6 +236,11 @@ int main(int argc, char** argv) {
     usage_error(rank,
                 "deck: need 1 <= gf_sample_every <= gf_total_steps and gf_servo_every a "
                 "multiple of gf_sample_every");
+  if (servo_move_every < 0 || servo_move_every % sample_every ||
+      (servo_move_every > 0 && servo_move_every >= servo_every))
+    usage_error(rank,
+                "deck: gf_servo_move_every must be 0 or a multiple of gf_sample_every below "
+                "gf_servo_every");
   if (lmp->force->pair == nullptr) usage_error(rank, "deck defines no pair style");
 
   std::FILE* series = nullptr;
@@ -250,57 +266,78 @@ int main(int argc, char** argv) {
   int segment_samples = 0;
   char command[512];
 
+  bool height_commanded = false;  // fix gf_shear moves the height (from the last servo update)
   for (long done = 0; done < total_steps;) {
     const long segment_begin = shear_begin + done;
     const long segment_end = segment_begin + std::min(segment_steps, total_steps - done);
-    for (long step = segment_begin; step < segment_end; step += sample_every) {
-      const long n = std::min(sample_every, segment_end - step);
-      std::snprintf(command, sizeof command, "run %ld start %ld stop %ld pre %s post no", n,
-                    segment_begin, segment_end, step == segment_begin ? "yes" : "no");
-      const auto t0 = Clock::now();
-      lammps_command(handle, command);
-      const auto t1 = Clock::now();
-      liggghts_seconds += std::chrono::duration<double>(t1 - t0).count();
-
-      // ---- sample (the harness)
-      local.clear();
-      const int nlocal = *static_cast<int*>(lammps_extract_global(handle, "nlocal"));
-      auto** x = static_cast<double**>(lammps_extract_atom(handle, "x"));
-      auto** v = static_cast<double**>(lammps_extract_atom(handle, "v"));
-      const auto* mass = static_cast<double*>(lammps_extract_atom(handle, "rmass"));
-      const auto* radius = static_cast<double*>(lammps_extract_atom(handle, "radius"));
-      const LAMMPS_NS::Domain& domain = *lmp->domain;
-      const granflow::dem::ShearFrame frame{shear_rate, domain.boxlo[1], domain.yprd};
-      granflow::dem::ParticleView view{nlocal, nlocal ? x[0] : nullptr, nlocal ? v[0] : nullptr,
-                                       mass, radius};
-      granflow::dem::accumulate_particles(view, frame, local);
-      if (const LAMMPS_NS::NeighList* list = lmp->force->pair->list) {
-        granflow::dem::HalfNeighborList half{list->inum, list->ilist, list->numneigh,
-                                             list->firstneigh, NEIGHMASK};
-        granflow::dem::accumulate_contacts(half, nlocal ? x[0] : nullptr, radius, nlocal, local);
+    // Move-then-hold: [segment_begin, move_end) with the height moving, the rest held.
+    const long move_end = height_commanded && servo_move_every > 0
+                              ? std::min(segment_begin + servo_move_every, segment_end)
+                              : segment_begin;
+    for (int phase = 0; phase < 2; ++phase) {
+      const long phase_begin = phase == 0 ? segment_begin : move_end;
+      const long phase_end = phase == 0 ? move_end : segment_end;
+      if (phase_begin == phase_end) continue;
+      if (phase == 1 && move_end > segment_begin) {  // hold the height reached
+        const auto t0 = Clock::now();
+        std::snprintf(command, sizeof command, "fix gf_shear all deform 1 xy erate %.17g remap v",
+                      shear_rate);
+        lammps_command(handle, command);
+        harness_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
       }
-      MPI_Allreduce(local.data(), global.data(), local.size(), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
-      const auto* virial = static_cast<double*>(lammps_extract_compute(handle, "gf_virial", 0, 1));
-      if (virial == nullptr) usage_error(rank, "deck defines no compute gf_virial (pressure)");
-      const std::array<double, 6> virial_stress{virial[0], virial[1], virial[2],
-                                                virial[3], virial[4], virial[5]};
-      const granflow::dem::BoxState box{domain.xprd, domain.yprd, domain.zprd, domain.xy};
-      ShearSample s =
-          granflow::dem::finalize_sample(global, virial_stress, box, frame, particle_density);
-      s.step = lmp->update->ntimestep;
-      s.time = double(s.step - shear_begin) * dt;
-      s.strain = shear_rate * s.time;
-      check_sample(s, rank);
-      FluidStress fluid;
-      if (wet) fluid = fluid_stress(handle, s, rank);
-      if (rank == 0) {
-        write_series_row(series, s, wet ? &fluid : nullptr);
-        write_profile_row(profile, s);
+      const bool measured = servo_move_every == 0 || phase == 1;  // the servo's samples
+      for (long step = phase_begin; step < phase_end; step += sample_every) {
+        const long n = std::min(sample_every, phase_end - step);
+        std::snprintf(command, sizeof command, "run %ld start %ld stop %ld pre %s post no", n,
+                      phase_begin, phase_end, step == phase_begin ? "yes" : "no");
+        const auto t0 = Clock::now();
+        lammps_command(handle, command);
+        const auto t1 = Clock::now();
+        liggghts_seconds += std::chrono::duration<double>(t1 - t0).count();
+        // ---- sample (the harness)
+        local.clear();
+        const int nlocal = *static_cast<int*>(lammps_extract_global(handle, "nlocal"));
+        auto** x = static_cast<double**>(lammps_extract_atom(handle, "x"));
+        auto** v = static_cast<double**>(lammps_extract_atom(handle, "v"));
+        const auto* mass = static_cast<double*>(lammps_extract_atom(handle, "rmass"));
+        const auto* radius = static_cast<double*>(lammps_extract_atom(handle, "radius"));
+        const LAMMPS_NS::Domain& domain = *lmp->domain;
+        const granflow::dem::ShearFrame frame{shear_rate, domain.boxlo[1], domain.yprd};
+        granflow::dem::ParticleView view{nlocal, nlocal ? x[0] : nullptr, nlocal ? v[0] : nullptr,
+                                         mass, radius};
+        granflow::dem::accumulate_particles(view, frame, local);
+        if (const LAMMPS_NS::NeighList* list = lmp->force->pair->list) {
+          granflow::dem::HalfNeighborList half{list->inum, list->ilist, list->numneigh,
+                                               list->firstneigh, NEIGHMASK};
+          granflow::dem::accumulate_contacts(half, nlocal ? x[0] : nullptr, radius, nlocal, local);
+        }
+        MPI_Allreduce(local.data(), global.data(), local.size(), MPI_DOUBLE, MPI_SUM,
+                      MPI_COMM_WORLD);
+        const auto* virial =
+            static_cast<double*>(lammps_extract_compute(handle, "gf_virial", 0, 1));
+        if (virial == nullptr) usage_error(rank, "deck defines no compute gf_virial (pressure)");
+        const std::array<double, 6> virial_stress{virial[0], virial[1], virial[2],
+                                                  virial[3], virial[4], virial[5]};
+        const granflow::dem::BoxState box{domain.xprd, domain.yprd, domain.zprd, domain.xy};
+        ShearSample s =
+            granflow::dem::finalize_sample(global, virial_stress, box, frame, particle_density);
+        s.step = lmp->update->ntimestep;
+        s.time = double(s.step - shear_begin) * dt;
+        s.strain = shear_rate * s.time;
+        check_sample(s, rank);
+        FluidStress fluid;
+        if (wet) fluid = fluid_stress(handle, s, rank);
+        if (rank == 0) {
+          write_series_row(series, s, wet ? &fluid : nullptr);
+          write_profile_row(profile, s);
+        }
+        ++samples;
+        if (measured) {
+          segment_normal_stress += s.normal_stress;
+          ++segment_samples;
+        }
+        harness_seconds += std::chrono::duration<double>(Clock::now() - t1).count();
       }
-      ++samples;
-      segment_normal_stress += s.normal_stress;
-      ++segment_samples;
-      harness_seconds += std::chrono::duration<double>(Clock::now() - t1).count();
     }
     done = segment_end - shear_begin;
     if (servo && done < total_steps) {
@@ -315,6 +352,7 @@ int main(int argc, char** argv) {
                     "fix gf_shear all deform 1 xy erate %.17g y final %.17g %.17g remap v",
                     shear_rate, lmp->domain->boxlo[1], lmp->domain->boxlo[1] + height);
       lammps_command(handle, command);
+      height_commanded = true;
       harness_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
     }
     segment_normal_stress = 0.0;
