@@ -9,6 +9,7 @@ eta = 0.01 Pa s, h_max = 50 um, h_min = 1 um), and with the same fix and `reach 
 part of the shear stage).
 
 usage: bench/dem_fluid_bench.py BUILD_DIR [--steps N] [--repeat R] [--out DIR] [--breakdown]
+       bench/dem_fluid_bench.py BUILD_DIR --cpu [--baseline OLD_BUILD_DIR] [--steps N] [--repeat R]
 Prints a markdown table (s per 1000 steps; wet/dry ratio; speed-up) for
 docs/performance.md#dem_fluid.
 --breakdown adds LIGGGHTS' own timing split (Pair / Neigh / Comm / Other, 1 rank, one
@@ -22,6 +23,7 @@ report the mean number of lubricated pairs (f_fluid[27]), and the lubrication's 
 """
 import argparse
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -88,7 +90,7 @@ FLUID = ("fix fluid all fluid/le viscosity 0.01 permeability seed_eq26 drag yes 
          "lubrication 5e-5 1e-6 tangential yes sums sampled")
 
 
-def run(driver, workdir, fluid, ranks, steps):
+def run(driver, workdir, fluid, ranks, steps, cpu=False):
     os.makedirs(workdir, exist_ok=True)
     with open(os.path.join(workdir, "in.bench"), "w") as f:
         f.write(DECK.format(steps=steps, sample=100, fluid=fluid))
@@ -101,7 +103,52 @@ def run(driver, workdir, fluid, ranks, steps):
     with open(os.path.join(workdir, "driver_stats.tsv")) as f:
         header, values = f.read().split("\n")[:2]
     stats = dict(zip(header.split("\t"), values.split("\t")))
-    return float(stats["liggghts_s"]) / steps * 1000.0  # s per 1000 steps
+    key = "liggghts_cpu_s" if cpu else "liggghts_s"  # CPU time summed over ranks, or wall time
+    return float(stats[key]) / steps * 1000.0  # s per 1000 steps
+
+
+# --cpu: CPU time (driver_stats.tsv liggghts_cpu_s) of the shear stage, 1 rank, sampled every 100
+# steps as a production run: robust to other jobs on the machine, unlike the wall times.
+CPU_VARIANTS = {
+    "dry": "",
+    "wet (sums sampled)": FLUID,
+    "wet, sums every step": FLUID.replace("sums sampled", "sums every"),
+    "wet, reach skin": FLUID + " reach skin",
+    "wet, h_max = 0.025 d": FLUID.replace("5e-5 1e-6", "2.5e-5 1e-6"),
+    "wet, h_max = 0.025 d, reach skin": FLUID.replace("5e-5 1e-6", "2.5e-5 1e-6") + " reach skin",
+    "wet, h_max = 0.1 d": FLUID.replace("5e-5 1e-6", "1e-4 1e-6"),
+    "wet, h_max = 0.1 d, reach skin": FLUID.replace("5e-5 1e-6", "1e-4 1e-6") + " reach skin",
+    "drag + rotational drag only": DRAG_ONLY,
+}
+
+
+def cpu_table(driver, out, steps, repeat, baseline=None):
+    rows = []
+    for name, fluid in CPU_VARIANTS.items():
+        tag = "cpu_" + str(len(rows))
+        t = min(run(driver, os.path.join(out, f"{tag}_{r}"), fluid, 1, steps, cpu=True)
+                for r in range(repeat))
+        rows.append((name, t))
+        print(f"{name}: {t:.3f} CPU s / 1000 steps", file=sys.stderr)
+    if baseline:  # an older granflow-dem (no 'sums' keyword, no CPU column in its stats):
+        # CPU time of the whole process (getrusage of the child) with steps and with steps / 5
+        # shear steps; the difference is 0.8 steps of shear (the compression cancels)
+        old = FLUID.replace(" sums sampled", "")
+
+        def child_cpu(n, r):
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
+            run(baseline, os.path.join(out, f"cpu_base_{n}_{r}"), old, 1, n)
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            return (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
+
+        t = min((child_cpu(steps, r) - child_cpu(steps // 5, r)) / (steps - steps // 5) * 1000
+                for r in range(repeat))
+        rows.append(("wet, baseline build (process CPU difference)", t))
+    dry = rows[0][1]
+    print("\n| variant (1 rank, CPU) | ms per step | / dry |")
+    print("|---|---|---|")
+    for name, t in rows:
+        print(f"| {name} | {t:.3f} | {t / dry:.2f} |")
 
 
 DRAG_ONLY = ("fix fluid all fluid/le viscosity 0.01 permeability seed_eq26 drag yes rotation yes")
@@ -173,9 +220,18 @@ def main():
     ap.add_argument("--repeat", type=int, default=1, help="best of R runs per configuration")
     ap.add_argument("--out", default=None, help="work directory (default: a temporary one)")
     ap.add_argument("--breakdown", action="store_true", help="add the LIGGGHTS timing split")
+    ap.add_argument("--cpu", action="store_true",
+                    help="only the CPU-time table of the variants (load-robust), 1 rank")
+    ap.add_argument("--baseline", default=None,
+                    help="with --cpu: another build directory to time the wet deck with")
     a = ap.parse_args()
     driver = os.path.join(os.path.abspath(a.build_dir), "dem_coupling", "granflow-dem")
     out = a.out or tempfile.mkdtemp(prefix="dem_fluid_bench_")
+    if a.cpu:
+        base = (os.path.join(os.path.abspath(a.baseline), "dem_coupling", "granflow-dem")
+                if a.baseline else None)
+        cpu_table(driver, out, a.steps, a.repeat, base)
+        return
     cases = {"dry": "", "wet": FLUID, "wet, reach skin": FLUID + " reach skin"}
     t = {}
     for kind, fluid in cases.items():

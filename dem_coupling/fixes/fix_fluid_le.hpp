@@ -3,7 +3,7 @@
 //
 //   fix ID group fluid/le viscosity ETA permeability NAME [sphericity A]
 //       [drag yes|no] [rotation yes|no] [lubrication HMAX HMIN] [tangential yes|no]
-//       [reach factor|skin]
+//       [reach factor|skin] [sums every|sampled]
 //
 //   viscosity     η0 of the liquid, Pa s
 //   permeability  drag correlation by the continuum's name (seed_eq26, kozeny_carman, ergun):
@@ -22,6 +22,10 @@
 //                 neighbour skin by HMAX and forces a rebuild once an atom has moved half the
 //                 deck's skin (LAMMPS' check, box motion included), so pair gran treats pairs
 //                 outside contact as in a dry run (cheaper; see docs/dem_fluid.md)
+//   sums          every (default): the global vector's sums (virials, dissipation, pair count)
+//                 are formed every step; sampled: only on steps where a compute tallies the
+//                 virial (vflag), the last step of a run and setup, i.e. where granflow-dem
+//                 samples; reading the vector at another step is refused (not stale values)
 // The fluid velocity is the box's affine (streaming) velocity, as LAMMPS' compute temp/deform:
 // u = L (x - boxlo) + h_ratelo with L = H_rate H⁻¹; for `fix deform 1 xy erate γ̇ remap v` this is
 // u_x = γ̇ (y - ylo) and Ω_z = -γ̇/2. Without fix deform the liquid is at rest.
