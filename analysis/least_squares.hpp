@@ -53,13 +53,21 @@ struct ParameterBounds {
   bool contains(double theta) const { return theta > lower && theta < upper; }
 };
 
-// θ = T(u) and its inverse (θ strictly inside the bounds), see the header comment.
+// θ = T(u) and its inverse (θ strictly inside the bounds), see the header comment. Far out in u
+// the maps round to the wall itself (1/(1 + e^(−u)) = 1 for u > 37); θ is then held one ulp
+// inside, so the model never sees a bound (which may be a singular point of it).
 inline double bounded_parameter(double u, const ParameterBounds& b) {
   const bool has_lower = std::isfinite(b.lower), has_upper = std::isfinite(b.upper);
-  if (has_lower && has_upper) return b.lower + (b.upper - b.lower) / (1.0 + std::exp(-u));
-  if (has_lower) return b.lower + std::exp(u);
-  if (has_upper) return b.upper - std::exp(u);
-  return u;
+  double theta = u;
+  if (has_lower && has_upper)
+    theta = b.lower + (b.upper - b.lower) / (1.0 + std::exp(-u));
+  else if (has_lower)
+    theta = b.lower + std::exp(u);
+  else if (has_upper)
+    theta = b.upper - std::exp(u);
+  if (has_lower) theta = std::max(theta, std::nextafter(b.lower, b.upper));
+  if (has_upper) theta = std::min(theta, std::nextafter(b.upper, b.lower));
+  return theta;
 }
 inline double unconstrained_parameter(double theta, const ParameterBounds& b) {
   const bool has_lower = std::isfinite(b.lower), has_upper = std::isfinite(b.upper);
@@ -83,8 +91,9 @@ struct LeastSquaresOptions {
   // A residual that comes back non-finite (the model is undefined at the trial θ) is replaced by
   // this, so LM rejects the step and shortens it.
   double failed_residual = 1e6;
-  // `at_bound` when an estimate is within bound_margin of a finite bound, measured in the box
-  // width (both bounds finite) or in the start's distance to that bound (one bound).
+  // `at_bound` when an estimate is within bound_margin of a finite bound, measured in the start's
+  // distance to that bound (at most the box width): a scale the caller chose, right for linear
+  // boxes like (0, 2) and for log-wide ones like (1e-6, 1e6) alike.
   double bound_margin = 1e-4;
 };
 
@@ -197,10 +206,9 @@ inline LeastSquaresFit minimise_residuals(const ResidualFunction& residuals, int
   fit.parameter_at_bound.assign(std::size_t(n), false);
   for (int j = 0; j < n; ++j) {
     const ParameterBounds& b = bounds[j];
-    const bool both = std::isfinite(b.lower) && std::isfinite(b.upper);
     for (double wall : {b.lower, b.upper}) {
       if (!std::isfinite(wall)) continue;
-      const double scale = both ? b.upper - b.lower : std::abs(start[j] - wall);
+      const double scale = std::min(std::abs(start[j] - wall), b.upper - b.lower);
       if (std::abs(theta[j] - wall) < options.bound_margin * scale)
         fit.parameter_at_bound[j] = true;
     }
@@ -212,8 +220,13 @@ inline LeastSquaresFit minimise_residuals(const ResidualFunction& residuals, int
   for (int j = 0; j < n; ++j) {
     const double h = options.relative_step * std::max(std::abs(theta[j]), options.step_floor);
     Eigen::VectorXd up = theta, down = theta, r_up(m), r_down(m);
-    up[j] = std::min(theta[j] + h, 0.5 * (theta[j] + bounds[j].upper));
-    down[j] = std::max(theta[j] - h, 0.5 * (theta[j] + bounds[j].lower));
+    // Half-way to a wall at most, and never onto it (on the wall the step is one-sided).
+    up[j] = std::min({theta[j] + h, 0.5 * (theta[j] + bounds[j].upper),
+                      std::nextafter(bounds[j].upper, bounds[j].lower)});
+    down[j] = std::max({theta[j] - h, 0.5 * (theta[j] + bounds[j].lower),
+                        std::nextafter(bounds[j].lower, bounds[j].upper)});
+    up[j] = std::max(up[j], theta[j]);
+    down[j] = std::min(down[j], theta[j]);
     evaluate(up, r_up);
     evaluate(down, r_down);
     jacobian.col(j) = (r_up - r_down) / (up[j] - down[j]);

@@ -203,11 +203,16 @@ int run_calibrate_case(core::RunContext& ctx) {
   const FitResult r =
       fit(start, names, training, observables, static_cast<int>(c.integer("fit.max_evaluations")));
   const CalibratedModel calibrated = apply(start, names, r.estimate);
-  if (!r.inside_domain)
+  if (!r.inside_domain) {
+    std::string walls;
+    for (std::size_t j = 0; j < names.size(); ++j)
+      if (j < r.at_bound.size() && r.at_bound[j]) walls += (walls.empty() ? "" : ", ") + names[j];
     log.warn(
-        "the estimate lies on a parameter bound or where the model cannot carry a condition: "
-        "the fit did not find an interior minimum (see docs/calibration.md); values are not "
-        "trustworthy");
+        "the estimate lies on a parameter bound ({}) or where the model cannot carry a "
+        "condition: the fit did not find an interior minimum (see docs/calibration.md); values "
+        "are not trustworthy",
+        walls.empty() ? "none" : walls);
+  }
   if (!r.identifiable)
     log.warn("Jᵀ W J is singular: the data do not constrain every parameter (standard errors NaN)");
   log.info(
@@ -220,6 +225,7 @@ int run_calibrate_case(core::RunContext& ctx) {
     sum.set("fit." + names[j], r.estimate[j]);
     sum.set("fit." + names[j] + "_err", r.standard_error[j]);
     sum.set("fit." + names[j] + "_initial", r.initial[j]);
+    sum.set("fit." + names[j] + "_at_bound", j < r.at_bound.size() && r.at_bound[j] ? 1 : 0);
     for (std::size_t k = j + 1; k < names.size(); ++k)
       sum.set(fmt::format("fit.corr.{}.{}", names[j], names[k]), r.correlation(j, k));
   }

@@ -7,9 +7,8 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
-#include <unsupported/Eigen/NonLinearOptimization>
-#include <unsupported/Eigen/NumericalDiff>
 
+#include "analysis/least_squares.hpp"
 #include "core/result_file.hpp"
 
 namespace granflow::calibration {
@@ -181,140 +180,88 @@ CalibratedModel apply(const CalibratedModel& start, const std::vector<std::strin
   return m;
 }
 
-namespace {
-
-// Residual vector r = (y - f)/σ for Eigen's LM (the functor interface of NumericalDiff).
-struct WeightedResiduals {
-  using Scalar = double;
-  using InputType = Eigen::VectorXd;
-  using ValueType = Eigen::VectorXd;
-  using JacobianType = Eigen::MatrixXd;
-  enum { InputsAtCompileTime = Eigen::Dynamic, ValuesAtCompileTime = Eigen::Dynamic };
-
-  const CalibratedModel* start;
-  const std::vector<std::string>* names;
-  const std::vector<DataPoint>* data;
-  const std::vector<Observable>* observables;
-  std::vector<ParameterSpec> specs;
-  int* evaluations;
-
-  int inputs() const { return static_cast<int>(names->size()); }
-  int values() const { return static_cast<int>(data->size() * observables->size()); }
-
-  // A trial outside the parameter's interval, or a condition the model cannot carry, gets a
-  // large residual (1e3 σ): LM then rejects the step and shortens it.
-  int operator()(const Eigen::VectorXd& x, Eigen::VectorXd& r) const {
-    ++*evaluations;
-    r.resize(values());
-    constexpr double penalty = 1e3;
-    for (int j = 0; j < inputs(); ++j)
-      if (!(x[j] > specs[j].lower && x[j] < specs[j].upper)) {
-        r.setConstant(penalty);
-        return 0;
-      }
-    const CalibratedModel m = apply(*start, *names, x);
-    const std::size_t K = observables->size();
-    for (std::size_t i = 0; i < data->size(); ++i) {
-      const auto& point = (*data)[i];
-      SteadyShearState s;
-      try {
-        s = predict(m, point);
-      } catch (const std::exception&) {
-        s.ok = false;  // ν_c or e_r outside a closure's domain
-      }
-      for (std::size_t k = 0; k < K; ++k) {
-        const int o = static_cast<int>((*observables)[k]);
-        r[static_cast<int>(i * K + k)] =
-            s.ok ? (point.value[o] - predicted(s, (*observables)[k])) / point.error[o] : penalty;
-      }
-    }
-    return 0;
-  }
-};
-
-}  // namespace
-
 FitResult fit(const CalibratedModel& start, const std::vector<std::string>& names,
               const std::vector<DataPoint>& data, const std::vector<Observable>& observables,
               int max_evaluations) {
   FitResult out;
   out.names = names;
   const int n = static_cast<int>(names.size());
-  WeightedResiduals functor{&start, &names, &data, &observables, {}, &out.evaluations};
-  for (const auto& name : names) functor.specs.push_back(parameter_spec(name));
-  const int m = functor.values();
+  const std::size_t K = observables.size();
+  const int m = static_cast<int>(data.size() * K);
   if (m <= n)
     throw std::invalid_argument(fmt::format(
         "{} residuals for {} parameters: need more data points or observables than parameters", m,
         n));
+  // Each parameter inside its open interval by the transform of analysis/least_squares.hpp
+  // (logistic map of an unconstrained coordinate): no trial leaves the box, so the penalty wall
+  // of earlier versions (a residual of 1e3 σ outside the interval) is gone. What remains is a
+  // condition the model cannot carry at a θ inside the box (e.g. no steady state): its residuals
+  // are 1e3 σ, so LM rejects that step and shortens it.
+  std::vector<analysis::ParameterBounds> bounds;
+  for (const auto& name : names) {
+    const ParameterSpec& spec = parameter_spec(name);
+    bounds.push_back(analysis::ParameterBounds::between(spec.lower, spec.upper));
+  }
   out.initial.resize(n);
   for (int j = 0; j < n; ++j) out.initial[j] = parameter_value(start, names[j]);
-  Eigen::VectorXd r(m);
-  functor(out.initial, r);
-  out.chi2_initial = r.squaredNorm();
-
-  Eigen::VectorXd x = out.initial;
-  // Central differences (step sqrt(epsfcn)|x| in NumericalDiff; epsfcn 1e-10 -> 1e-5 relative,
-  // truncation O(1e-10), rounding O(ε/1e-5) ≈ 1e-11 on residuals solved to ~1e-15).
-  Eigen::NumericalDiff<WeightedResiduals, Eigen::Central> numerical(functor, 1e-10);
-  Eigen::LevenbergMarquardt<Eigen::NumericalDiff<WeightedResiduals, Eigen::Central>> lm(numerical);
-  lm.parameters.maxfev = max_evaluations;
-  lm.parameters.xtol = 1e-12;
-  lm.parameters.ftol = 1e-12;
-  out.status = static_cast<int>(lm.minimize(x));
-  out.estimate = x;
-
-  // Jacobian of the residuals at the estimate, central differences with step 1e-5 |θ| (as above),
-  // one-sided when the estimate is within a step of a bound.
-  functor(x, r);
-  Eigen::MatrixXd J(m, n);
-  for (int j = 0; j < n; ++j) {
-    const double h = 1e-5 * std::max(std::abs(x[j]), 1e-3);
-    Eigen::VectorXd xp = x, xm = x, rp(m), rm(m);
-    xp[j] = std::min(x[j] + h, 0.5 * (x[j] + functor.specs[j].upper));
-    xm[j] = std::max(x[j] - h, 0.5 * (x[j] + functor.specs[j].lower));
-    functor(xp, rp);
-    functor(xm, rm);
-    J.col(j) = (rp - rm) / (xp[j] - xm[j]);
-  }
-  out.chi2 = r.squaredNorm();
-  // On (within 1e-4 of the interval's width of) a bound: LM ran into the wall, not a minimum.
-  for (int j = 0; j < n; ++j) {
-    const double margin = 1e-4 * (functor.specs[j].upper - functor.specs[j].lower);
-    out.inside_domain = out.inside_domain && x[j] > functor.specs[j].lower + margin &&
-                        x[j] < functor.specs[j].upper - margin;
-  }
-  {
-    const CalibratedModel at_estimate = apply(start, names, x);
-    for (const auto& point : data) {
+  for (int j = 0; j < n; ++j)
+    if (!bounds[j].contains(out.initial[j]))
+      throw std::invalid_argument(
+          fmt::format("start value {} = {} is outside its interval ({}, {})", names[j],
+                      out.initial[j], bounds[j].lower, bounds[j].upper));
+  constexpr double unsupported_condition = 1e3;
+  auto residuals = [&](const Eigen::VectorXd& theta, Eigen::VectorXd& r) {
+    const CalibratedModel model = apply(start, names, theta);
+    for (std::size_t i = 0; i < data.size(); ++i) {
+      const auto& point = data[i];
+      SteadyShearState s;
       try {
-        out.inside_domain = out.inside_domain && predict(at_estimate, point).ok;
+        s = predict(model, point);
       } catch (const std::exception&) {
-        out.inside_domain = false;
+        s.ok = false;  // ν_c or e_r outside a closure's domain
+      }
+      for (std::size_t k = 0; k < K; ++k) {
+        const int o = static_cast<int>(observables[k]);
+        r[static_cast<Eigen::Index>(i * K + k)] =
+            s.ok ? (point.value[o] - predicted(s, observables[k])) / point.error[o]
+                 : unsupported_condition;
       }
     }
-  }
+  };
+  analysis::LeastSquaresOptions options;
+  options.max_evaluations = max_evaluations;
+  // Jacobian step 1e-5 max(|θ|, 1e-3): the parameters are O(0.01-1) or factors around 1.
+  options.step_floor = 1e-3;
+  // A singular value below 1e-8 of the largest: a direction of θ the data do not constrain (e.g.
+  // the correlation-length constant with L = d).
+  options.rank_tolerance = 1e-8;
+  options.failed_residual = unsupported_condition;
+  const analysis::LeastSquaresFit lsq =
+      analysis::minimise_residuals(residuals, m, out.initial, bounds, options);
+  out.estimate = lsq.estimate;
+  out.standard_error = lsq.standard_error;
+  out.covariance = lsq.covariance;
+  out.correlation = lsq.correlation;
+  out.chi2 = lsq.chi2;
+  out.chi2_initial = lsq.chi2_initial;
   out.residual_count = m;
-  out.dof = m - n;
-  out.chi2_red = out.chi2 / out.dof;
-  out.normalised_residuals = r;
-  // J is ∂r/∂θ = -W^½ ∂f/∂θ, so Jᵀ J = (∂f/∂θ)ᵀ W (∂f/∂θ).
-  const Eigen::MatrixXd information = J.transpose() * J;
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(J);
-  const auto sv = svd.singularValues();
-  // Rank test: a singular value below 1e-8 of the largest means a direction of θ the data do not
-  // constrain (e.g. the correlation-length constant with L = d).
-  out.identifiable = sv.size() > 0 && sv[sv.size() - 1] > 1e-8 * sv[0];
-  out.covariance = Eigen::MatrixXd::Constant(n, n, NAN);
-  out.standard_error = Eigen::VectorXd::Constant(n, NAN);
-  out.correlation = Eigen::MatrixXd::Constant(n, n, NAN);
-  if (out.identifiable) {
-    out.covariance = information.ldlt().solve(Eigen::MatrixXd::Identity(n, n));
-    out.standard_error = out.covariance.diagonal().cwiseSqrt();
-    for (int a = 0; a < n; ++a)
-      for (int b = 0; b < n; ++b)
-        out.correlation(a, b) =
-            out.covariance(a, b) / (out.standard_error[a] * out.standard_error[b]);
+  out.dof = lsq.dof;
+  out.chi2_red = lsq.chi2_red;
+  out.evaluations = lsq.evaluations;
+  out.status = lsq.status;
+  out.identifiable = lsq.identifiable;
+  out.normalised_residuals = lsq.normalised_residuals;
+  out.at_bound = lsq.parameter_at_bound;
+  // Inside the domain: no estimate on a wall of its interval (where the data want the parameter
+  // beyond it) and the model carries every condition at the estimate.
+  out.inside_domain = !lsq.at_bound;
+  const CalibratedModel at_estimate = apply(start, names, out.estimate);
+  for (const auto& point : data) {
+    try {
+      out.inside_domain = out.inside_domain && predict(at_estimate, point).ok;
+    } catch (const std::exception&) {
+      out.inside_domain = false;
+    }
   }
   return out;
 }

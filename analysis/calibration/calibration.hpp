@@ -5,10 +5,12 @@
 //     χ²(θ) = Σ_i Σ_k [(y_ik - f_k(θ; γ̇_i, p_i)) / σ_ik]²
 //
 // over the conditions i and the chosen observables k (μ, φ, T/(dγ̇)²) with the DEM standard
-// errors σ_ik (batch means, docs/dem_dataset.md). Minimised by Eigen's Levenberg-Marquardt
-// (MINPACK lmdif port, unsupported/Eigen/NonLinearOptimization) with central-difference
-// Jacobians. Covariance of the estimates C = (Jᵀ W J)⁻¹, W = diag(1/σ²), J = ∂f/∂θ at the optimum
-// (not rescaled by χ²_red: the DEM error bars are taken as the noise level; χ²_red ≈ 1 checks it).
+// errors σ_ik (batch means, docs/dem_dataset.md). Minimised by the shared weighted least squares
+// (analysis/least_squares.hpp: Eigen's Levenberg-Marquardt with central-difference Jacobians,
+// each parameter kept inside its interval by a logistic change of variables). Covariance of the
+// estimates C = (Jᵀ W J)⁻¹, W = diag(1/σ²), J = ∂f/∂θ at the optimum (the transform's covariance
+// propagated back to θ; not rescaled by χ²_red: the DEM error bars are taken as the noise level;
+// χ²_red ≈ 1 checks it).
 #pragma once
 
 #include <Eigen/Core>
@@ -87,8 +89,11 @@ struct FitResult {
   int evaluations = 0;       // forward-model sweeps over the data
   int status = 0;            // Eigen LevenbergMarquardt status code
   bool identifiable = true;  // Jᵀ W J of full rank
-  // The estimate is inside every parameter's interval and the model carries every condition
-  // there (false: LM stopped on the penalty wall, the estimates are meaningless).
+  // Per parameter: the estimate is on (within 1e-4 of its start's distance to) a wall of its
+  // interval, i.e. the data want it beyond the bound; its error bar is then one-sided.
+  std::vector<bool> at_bound;
+  // No estimate on a wall and the model carries every condition there (false: the estimates are
+  // a boundary value, not a minimum of χ²).
   bool inside_domain = true;
   Eigen::VectorXd normalised_residuals;  // (y - f)/σ at the estimate, point-major
 };

@@ -150,6 +150,33 @@ TEST(CalibrationFit, JammingFractionFromFrictionAloneIsWeakAndFlagged) {
       << r.estimate[0] << " ± " << r.standard_error[0];
 }
 
+TEST(CalibrationFit, OptimumOutsideTheIntervalEndsOnItsWallNotBeyond) {
+  // Data made with ν_c = 0.75, above the interval (0.49, 0.74) of jamming_fraction: the χ²
+  // minimum lies outside. The transform keeps every trial inside, so the fit ends on the wall
+  // 0.74 (never beyond, as the penalty wall allowed: f_Λ = −0.26 in docs/calibration.md), flags
+  // it (at_bound, inside_domain false), and its χ² is above the noise level.
+  const auto truth = dry_model(0.8, 0.75);
+  auto data = synthetic_points(truth, 1);
+  for (auto& p : data) {
+    const auto s = predict(truth, p);
+    ASSERT_TRUE(s.ok) << s.why;
+    p.value[0] = s.friction, p.value[1] = s.solid_fraction, p.value[2] = s.scaled_temperature;
+  }
+  const auto r = fit(dry_model(0.8, 0.6), {"jamming_fraction"}, data, all_observables);
+  EXPECT_LT(r.estimate[0], 0.74);
+  // Within 1e-4 of the start's distance to the wall (0.14) of it.
+  EXPECT_GT(r.estimate[0], 0.74 - 1e-4 * 0.14);
+  ASSERT_EQ(r.at_bound.size(), 1u);
+  EXPECT_TRUE(r.at_bound[0]);
+  EXPECT_FALSE(r.inside_domain);
+  EXPECT_GT(r.chi2, 1.0);  // noise-free data: any χ² > 0 is the misfit of the wall
+  // The same fit with the truth inside the interval is an interior minimum (the control).
+  const auto inside = fit(dry_model(0.8, 0.6), {"jamming_fraction"},
+                          synthetic_points(dry_model(0.8, 0.70), 1), all_observables);
+  EXPECT_TRUE(inside.inside_domain);
+  EXPECT_FALSE(inside.at_bound[0]);
+}
+
 // Immersed sweeps vary η0 from row to row (/steady/viscosity): each row is predicted at its own η0
 // times the fitted factor. Two paths: a row carrying η0 must equal the model whose case viscosity
 // is that η0, and a noiseless wet dataset over a decade of η0 gives the true factor back.
