@@ -24,7 +24,6 @@ namespace {
 // ---- schema -------------------------------------------------------------------------------------
 
 struct NumericsDefaults {
-  const char* flip = "1.0";
   const char* local_damping = "0.0";
   const char* smoothing = "false";
 };
@@ -34,10 +33,15 @@ void add_numerics(core::Schema& s, NumericsDefaults d) {
   n.choice("shape", {"linear", "gimp"}, "shape functions (gimp: Cartesian grids only)")
       .default_value("linear");
   n.choice("scheme", {"musl", "usl"}, "update scheme: modified USL or USL").default_value("musl");
-  n.number("flip", "1", "FLIP fraction of the point velocity update (1 FLIP, 0 PIC)")
-      .default_value(d.flip)
+  n.number("flip", "1",
+           "FLIP fraction of each step's point velocity update (1 FLIP, 0 PIC); 1 when neither "
+           "it nor pic_relaxation_time is given")
       .at_least(0)
       .at_most(1);
+  n.number("pic_relaxation_time", "s",
+           "PIC relaxation time t_PIC instead of flip: per-step FLIP fraction exp(−Δt/t_PIC), "
+           "so the PIC damping per unit time does not depend on Δt (docs/mpm.md)")
+      .greater_than(0);
   n.number("local_damping", "1", "Cundall local damping coefficient α")
       .default_value(d.local_damping)
       .at_least(0)
@@ -157,7 +161,7 @@ core::Schema couette_schema() {
   r.number("average_from", "s", "grid velocity averaged from this time to the end")
       .default_value("1.5")
       .at_least(0);
-  add_numerics(s, {"1.0", "0.0", "true"});
+  add_numerics(s, {"0.0", "true"});
   return s;
 }
 
@@ -181,7 +185,7 @@ core::Schema column_schema() {
   ld.number("gravity", "m/s^2", "g").default_value("9.81").greater_than(0);
   auto& r = s.section("run", "duration");
   r.number("end_time", "s", "simulated time").default_value("1.5").greater_than(0);
-  add_numerics(s, {"1.0", "0.3", "false"});
+  add_numerics(s, {"0.3", "false"});
   return s;
 }
 
@@ -192,7 +196,9 @@ SolverOptions read_options(const core::Case& c) {
   SolverOptions o;
   o.shape = c.string("numerics.shape") == "gimp" ? ShapeKind::gimp : ShapeKind::linear;
   o.scheme = c.string("numerics.scheme") == "usl" ? UpdateScheme::usl : UpdateScheme::musl;
-  o.flip = c.number("numerics.flip");
+  if (c.has("numerics.flip")) o.flip = c.number("numerics.flip");
+  if (c.has("numerics.pic_relaxation_time"))
+    o.pic_relaxation_time = c.number("numerics.pic_relaxation_time");
   o.local_damping = c.number("numerics.local_damping");
   o.cfl_factor = c.number("numerics.cfl_factor");
   o.fixed_dt = c.number("numerics.time_step");
@@ -206,6 +212,10 @@ SolverOptions read_options(const core::Case& c) {
 }
 
 void check_common(const core::Case& c) {
+  if (c.has("numerics.flip") && c.has("numerics.pic_relaxation_time"))
+    c.fail("numerics.pic_relaxation_time",
+           "either numerics.flip (per step) or numerics.pic_relaxation_time (per unit time), "
+           "not both");
   if (c.boolean("numerics.liquid_volumetric_smoothing") && c.string("numerics.shape") == "gimp")
     c.fail("numerics.liquid_volumetric_smoothing", "false with gimp (cell averaging needs linear)");
 }
@@ -276,6 +286,12 @@ void report_setup(core::RunContext& ctx, const Solver& s) {
       "wave {:.4g}, viscous {:.4g}, drag {:.4g} s; factor {:g}{})",
       s.solid().size(), s.liquid().size(), s.grid_nodes(), s.threads(), s.dt(), L.wave, L.viscous,
       L.drag, s.options().cfl_factor, s.options().fixed_dt > 0 ? ", fixed Δt given" : "");
+  if (s.options().pic_relaxation_time > 0)
+    ctx.log->info("PIC relaxation time {:.4g} s: FLIP fraction exp(−Δt/t_PIC) = {:.6g} per step",
+                  s.options().pic_relaxation_time, s.flip_fraction());
+  else if (s.options().flip < 1)
+    ctx.log->info("FLIP fraction {:g} per step (PIC relaxation time Δt/(−ln flip) = {:.4g} s)",
+                  s.options().flip, s.dt() / -std::log(s.options().flip));
   if (s.options().mass_scaling > 1)
     ctx.log->warn("mass scaling × {:g}: inertia is not physical (modelling choice)",
                   s.options().mass_scaling);
@@ -295,6 +311,7 @@ void common_summary(core::RunContext& ctx, const Solver& s, double wall, double 
   sum.set("mpm.particles_solid", static_cast<double>(s.solid().size()));
   sum.set("mpm.particles_liquid", static_cast<double>(s.liquid().size()));
   sum.set("mpm.dt", s.dt());
+  sum.set("mpm.flip_step", s.flip_fraction());
   sum.set("mpm.dt_critical", s.limits().critical());
   sum.set("mpm.threads", s.threads());
   sum.set("mpm.mass_scaling", s.options().mass_scaling);
@@ -598,7 +615,7 @@ core::Schema rheometer_schema() {
       .default_value("0.2")
       .greater_than(0)
       .at_most(1);
-  add_numerics(s, {"1.0", "0.0", "true"});
+  add_numerics(s, {"0.0", "true"});
   return s;
 }
 
@@ -676,6 +693,8 @@ int run_rheometer(core::RunContext& ctx) {
   std::sort(profile_times.begin(), profile_times.end());
   const int bins = static_cast<int>(c.integer("run.profile_bins"));
   std::vector<double> t_s, tau_s, sg_s, gam_s, rate_s, vol_s, pw_s, nstd_s, fl_s, tmean_s;
+  // Numerics diagnostics: Δt and its limits, the largest ν and T, the clamp counter.
+  std::vector<double> dt_s, dt_wave_s, dt_cond_s, numax_s, tmax_s, clamp_s, pstd_s, vr_s;
   // Crowns (inner r < R_in + L/3, middle, outer r > R_out − L/3): where strain starts, which
   // crown compacts, which fluidizes first (seed Figs. 4-6; docs/rheometer.md).
   constexpr int crowns = 3;
@@ -707,6 +726,17 @@ int run_rheometer(core::RunContext& ctx) {
     nstd_s.push_back(a.porosity_std);
     fl_s.push_back(a.fluidized_fraction);
     tmean_s.push_back(T / std::max<double>(1.0, s.solid().size()));
+    pstd_s.push_back(a.pore_pressure_std);
+    vr_s.push_back(a.radial_velocity_rms);
+    dt_s.push_back(s.dt());
+    dt_wave_s.push_back(s.limits().wave);
+    dt_cond_s.push_back(s.limits().conduction);
+    double nu_max = 0, T_max = 0;
+    for (double n : s.solid().porosity) nu_max = std::max(nu_max, 1.0 - n);
+    for (double v : s.solid().temperature) T_max = std::max(T_max, v);
+    numax_s.push_back(nu_max);
+    tmax_s.push_back(T_max);
+    clamp_s.push_back(static_cast<double>(rh.material->clamped_updates()));
   };
   std::size_t next_profile = 0;
   auto profile = [&]() {
@@ -762,6 +792,16 @@ int run_rheometer(core::RunContext& ctx) {
   ctx.result.write("/series/porosity_std", nstd_s, "1", "standard deviation of n");
   ctx.result.write("/series/fluidized_fraction", fl_s, "1", "volume fraction with r_c = 0");
   ctx.result.write("/series/temperature", tmean_s, "m^2/s^2", "mean T of the solid points");
+  ctx.result.write("/series/temperature_max", tmax_s, "m^2/s^2", "largest T of a solid point");
+  ctx.result.write("/series/solid_fraction_max", numax_s, "1", "largest ν of a solid point");
+  ctx.result.write("/series/pore_pressure_std", pstd_s, "Pa",
+                   "rms of p about its mean over each ring of cells (θ-dependent part)");
+  ctx.result.write("/series/radial_velocity_rms", vr_s, "m/s", "rms of the solid v_r");
+  ctx.result.write("/series/dt", dt_s, "s", "time step");
+  ctx.result.write("/series/dt_wave", dt_wave_s, "s", "critical step of the wave speed");
+  ctx.result.write("/series/dt_conduction", dt_cond_s, "s", "critical step of T conduction");
+  ctx.result.write("/series/clamped_updates", clamp_s, "1",
+                   "point updates evaluated at ν_lim so far (multi-regime guard)");
   const char* crown_name[crowns] = {"inner", "middle", "outer"};
   for (int k = 0; k < crowns; ++k) {
     const std::string g = fmt::format("/crowns/{}", crown_name[k]);  // on /series/time

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <variant>
+#include <vector>
 
 #include "continuum/mpm/setup.hpp"
 
@@ -61,7 +63,7 @@ RheometerAverages rheometer_averages(const Solver& solver, const MultiRegimeMate
                                      const std::vector<double>& gamma) {
   const SolidPoints& sp = solver.solid();
   RheometerAverages a;
-  double V = 0, n_mean = 0, n2 = 0;
+  double V = 0, n_mean = 0, n2 = 0, vr2 = 0;
   const double fluid_rc = material.point().settings().force_chains
                               ? material.point().settings().force_chain_parameters.fluidization_size
                               : 0.0;
@@ -79,6 +81,8 @@ RheometerAverages rheometer_averages(const Solver& solver, const MultiRegimeMate
     a.shear_rate += v * 2.0 * D_rt;
     n_mean += v * sp.porosity[p];
     n2 += v * sp.porosity[p] * sp.porosity[p];
+    const double v_r = sp.vx[p] * c + sp.vy[p] * s;
+    vr2 += v * v_r * v_r;
     const std::size_t k = p - material.begin();
     if (p >= material.begin() && p < material.end() && material.locus_size()[k] < fluid_rc)
       a.fluidized_fraction += v;
@@ -91,13 +95,32 @@ RheometerAverages rheometer_averages(const Solver& solver, const MultiRegimeMate
   a.fluidized_fraction /= V;
   n_mean /= V;
   a.porosity_std = std::sqrt(std::max(0.0, n2 / V - n_mean * n_mean));
+  a.radial_velocity_rms = std::sqrt(vr2 / V);
   const LiquidPoints& lp = solver.liquid();
-  double VL = 0, pL = 0;
+  // Rings of the radial cells: p about its ring mean measures the θ-dependent part only (the
+  // radial profile of p is physical).
+  const auto* grid = std::get_if<PolarGrid>(&solver.grid());
+  const int rings = grid ? grid->cells_r() : 1;
+  auto ring = [&](std::size_t p) {
+    if (!grid) return 0;
+    const double r = std::hypot(lp.x[p], lp.y[p]);
+    return std::clamp(static_cast<int>((r - grid->inner_radius()) / grid->dr()), 0, rings - 1);
+  };
+  std::vector<double> ring_V(rings, 0.0), ring_p(rings, 0.0), ring_p2(rings, 0.0);
   for (std::size_t p = 0; p < lp.size(); ++p) {
-    VL += lp.volume[p];
-    pL += lp.volume[p] * lp.pressure[p];
+    const int k = ring(p);
+    ring_V[k] += lp.volume[p];
+    ring_p[k] += lp.volume[p] * lp.pressure[p];
+    ring_p2[k] += lp.volume[p] * lp.pressure[p] * lp.pressure[p];
+  }
+  double VL = 0, pL = 0, var = 0;
+  for (int k = 0; k < rings; ++k) {
+    VL += ring_V[k];
+    pL += ring_p[k];
+    if (ring_V[k] > 0) var += ring_p2[k] - ring_p[k] * ring_p[k] / ring_V[k];
   }
   a.pore_pressure = VL > 0 ? pL / VL : 0.0;
+  a.pore_pressure_std = VL > 0 ? std::sqrt(std::max(0.0, var / VL)) : 0.0;
   return a;
 }
 

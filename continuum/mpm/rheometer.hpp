@@ -49,6 +49,10 @@ struct RheometerAverages {
   double pore_pressure = 0;       // <p> over the liquid points (volume weighted), Pa
   double porosity_std = 0;        // standard deviation of n over the solid points
   double fluidized_fraction = 0;  // volume fraction of solid points with r_c below fluidization
+  // Diagnostics of a non-axisymmetric (numerical) disturbance: the flow of the annulus is
+  // axisymmetric, so v_r and the spread of p around its ring means stay small.
+  double pore_pressure_std = 0;    // rms of p about its mean over each ring of cells, Pa
+  double radial_velocity_rms = 0;  // rms of the solid v_r, m/s
 };
 
 // Accumulates γ_rθ per solid point from the last step's velocity gradient (call after every

@@ -80,6 +80,13 @@ Solver::Solver(Grid grid, SolverOptions options, LiquidOptions liquid)
   if (!(options_.flip >= 0.0 && options_.flip <= 1.0)) {
     throw std::invalid_argument("flip fraction must be in [0, 1]");
   }
+  if (!(options_.pic_relaxation_time >= 0.0)) {
+    throw std::invalid_argument("PIC relaxation time must be >= 0");
+  }
+  if (options_.pic_relaxation_time > 0.0 && options_.flip != 1.0) {
+    throw std::invalid_argument(
+        "give either a per-step flip fraction or a PIC relaxation time, not both");
+  }
   if (!(options_.local_damping >= 0.0 && options_.local_damping < 1.0)) {
     throw std::invalid_argument("local damping must be in [0, 1)");
   }
@@ -295,6 +302,16 @@ void Solver::update_dt() {
     }
     dt_ = options_.cfl_factor * critical;
   }
+}
+
+// The PIC part of the blend relaxes the point velocity towards the grid field: per step
+// v ← f v + (1 − f) v_PIC, i.e. over a time t the point–grid difference of a mode the grid does
+// not see decays as f^(t/Δt). With f fixed that is exp(t ln f / Δt): a rate ∝ 1/Δt, so a stiffer
+// liquid (smaller Δt, K_w) means more numerical viscosity. With f = exp(−Δt/t_PIC) it decays as
+// exp(−t/t_PIC) for any Δt (the exact integral of dv/dt = −(v − v_PIC)/t_PIC over one step).
+double Solver::flip_fraction() const {
+  return options_.pic_relaxation_time > 0.0 ? std::exp(-dt_ / options_.pic_relaxation_time)
+                                            : options_.flip;
 }
 
 double Solver::viscosity_at(double nu) const {
@@ -764,7 +781,7 @@ void Solver::apply_conditions(Phase phase, double* vx, double* vy, int begin, in
 // the same pass (it needs nothing but the point's own new velocity).
 template <class G, ShapeKind S>
 void Solver::update_points_part(const G& grid, int t, bool remap) {
-  const double dt = dt_, flip = options_.flip, s = options_.mass_scaling;
+  const double dt = dt_, flip = flip_fraction(), s = options_.mass_scaling;
   const bool usl = options_.scheme == UpdateScheme::usl;
   const bool wet = liquid_.size() > 0;
   const int nn = nn_, T = threads_;

@@ -44,8 +44,12 @@ struct LiquidOptions {
 struct SolverOptions {
   ShapeKind shape = ShapeKind::linear;
   UpdateScheme scheme = UpdateScheme::musl;
-  double flip = 1.0;           // FLIP fraction of the point velocity update (1 FLIP, 0 PIC)
-  double local_damping = 0.0;  // Cundall local damping coefficient α in [0, 1)
+  double flip = 1.0;  // FLIP fraction of the point velocity update (1 FLIP, 0 PIC)
+  // PIC relaxation time t_PIC, s (> 0 replaces `flip`, which must then stay 1): the per-step
+  // FLIP fraction is exp(−Δt/t_PIC), so the points relax towards the grid field at the rate
+  // 1/t_PIC per unit TIME whatever Δt is (docs/mpm.md, "FLIP/PIC blend").
+  double pic_relaxation_time = 0.0;
+  double local_damping = 0.0;               // Cundall local damping coefficient α in [0, 1)
   double gravity_x = 0.0, gravity_y = 0.0;  // m/s²
   double cfl_factor = 0.5;                  // dt = factor x min(critical steps)
   double fixed_dt = 0.0;                    // > 0: use this dt (the critical one is still reported)
@@ -132,6 +136,8 @@ class Solver {
   }
 
   double dt() const { return dt_; }
+  // FLIP fraction of the next step's point velocity update: `flip`, or exp(−Δt/t_PIC).
+  double flip_fraction() const;
   double time() const { return time_; }
   long steps() const { return step_; }
   const TimeStepLimits& limits() const { return limits_; }

@@ -75,3 +75,22 @@ TEST(MpmKind, BadGeometryNamesTheKey) {
     EXPECT_NE(std::string(e.what()).find("geometry.cell"), std::string::npos) << e.what();
   }
 }
+
+TEST(MpmKind, FlipAndPicRelaxationTimeAreExclusive) {
+  core::KindRegistry registry;
+  mpm::register_mpm_kinds(registry);
+  // elastic_column.yaml gives neither key (terzaghi.yaml gives flip: 1.0).
+  const auto path = std::filesystem::path(GRANFLOW_SOURCE_DIR) / "cases/mpm/elastic_column.yaml";
+  const auto& entry = registry.find("mpm", "elastic_column", path.string());
+  const core::Case ok = core::Case::load(path, {"numerics.pic_relaxation_time=1e-3"}, entry.schema);
+  EXPECT_NO_THROW(entry.check(ok));
+  const core::Case both = core::Case::load(
+      path, {"numerics.flip=0.99", "numerics.pic_relaxation_time=1e-3"}, entry.schema);
+  try {
+    entry.check(both);
+    FAIL() << "a per-step flip and a PIC relaxation time were both accepted";
+  } catch (const core::CaseError& e) {
+    EXPECT_NE(std::string(e.what()).find("numerics.pic_relaxation_time"), std::string::npos)
+        << e.what();
+  }
+}
