@@ -168,6 +168,25 @@ inline std::vector<std::pair<std::string, double>> dry_fit_numbers(const Inertia
   return out;
 }
 
+// One line for the run log: "μ_p = 0: peyneau_roux μ(I) mu_0 = 0.102 ± 0.008, ... (χ²_red 1.6);
+// φ(I) phi_rcp = ... (χ²_red 3.5); 6 points".
+inline std::string dry_fit_log_line(const InertialLawFit& d) {
+  const DryLawText text = dry_law_text(d.law);
+  auto part = [](const LeastSquaresFit& fit, const std::vector<std::string>& names) {
+    std::string out;
+    for (std::size_t j = 0; j < names.size(); ++j) {
+      const bool has = j < std::size_t(fit.estimate.size());
+      out += fmt::format("{}{} = {:.4g} ± {:.2g}", j ? ", " : "", names[j],
+                         has ? fit.estimate[j] : NAN, has ? fit.standard_error[j] : NAN);
+    }
+    return out +
+           fmt::format(" (χ²_red {:.3g}{})", fit.chi2_red, fit.at_bound ? ", on a bound" : "");
+  };
+  return fmt::format("μ_p = {:g}: {} μ(I) {}; φ(I) {}; {} points", d.particle_friction,
+                     dry_law_name(d.law), part(d.mu, text.friction_parameters),
+                     part(d.phi, text.solid_fraction_parameters), d.inertial.size());
+}
+
 // Writes /fits (docs/dem_dataset.md) through `sink`, which has the ResultFile interface:
 // attribute(group, name, double) and write(path, values, unit, description).
 template <class Sink>

@@ -166,6 +166,10 @@ TEST(DemInertialLawFit, FailedPointsAreSkippedAndGroupsSplitByFriction) {
   EXPECT_NEAR(summary.at("fit.frictionless.beta"), 0.77, 1e-5);
   EXPECT_EQ(summary.at("fit.frictionless.mu_0"), summary.at("fit.frictionless.mu_s"));
   EXPECT_EQ(summary.count("fit.frictionless.I_0"), 0u);
+  // The log line names the law and its parameters.
+  const std::string line = dry_fit_log_line(f.dry[0]);
+  EXPECT_NE(line.find("peyneau_roux"), std::string::npos) << line;
+  EXPECT_NE(line.find("phi_rcp = 0.639"), std::string::npos) << line;
   ASSERT_TRUE(published_dem_law(0.5).has_value());
   EXPECT_EQ(published_dem_law(0.5)->phi_c, 0.587);
   EXPECT_FALSE(published_dem_law(0.3).has_value());
