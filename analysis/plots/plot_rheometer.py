@@ -155,7 +155,8 @@ def fields(run):
 def history(run):
     _, s = load(run)
     t = s["time"] * 1e3
-    fig, axes = plt.subplots(1, 4, figsize=(17, 3.8))
+    numerics = "pore_pressure_std" in s
+    fig, axes = plt.subplots(1, 5 if numerics else 4, figsize=(21 if numerics else 17, 3.8))
     axes[0].plot(t, s["pore_pressure"] / 1e3)
     axes[0].set(xlabel="t [ms]", ylabel="mean pore pressure [kPa]",
                 title="pore pressure (paper: constant)")
@@ -168,6 +169,14 @@ def history(run):
     axes[2].legend(fontsize=7)
     axes[3].semilogy(t, np.maximum(s["temperature"], 1e-12))
     axes[3].set(xlabel="t [ms]", ylabel="mean T [m²/s²]", title="granular temperature")
+    if numerics:
+        # Numerical health: the flow is axisymmetric, so the spread of p around its ring means
+        # and the solid v_r stay small unless a grid mode grows (docs/rheometer.md).
+        axes[4].semilogy(t, np.maximum(s["pore_pressure_std"], 1e-3), label="θ-spread of p [Pa]")
+        axes[4].semilogy(t, np.maximum(s["radial_velocity_rms"], 1e-9) * 1e3,
+                         label="rms solid v_r [mm/s]")
+        axes[4].set(xlabel="t [ms]", title="numerical health (axisymmetry)")
+        axes[4].legend(fontsize=7)
     for a in axes:
         a.grid(alpha=0.3)
     fig.tight_layout()
