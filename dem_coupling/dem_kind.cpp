@@ -113,8 +113,8 @@ core::Schema shear_schema() {
       .number("servo_gain", "",
               "relative height change per relative stress error; default: loop gain "
               "gain × d ln σ/d ln φ ≈ 0.25 at the target, i.e. dry 0.1 × I_target (I_target = "
-              "γ̇ d / sqrt(σ_yy/ρ_p)) within [1e-4, 0.02], immersed 0.125 √K/(1 + √K) (K = J + "
-              "α I² at the target, φ = φ_m/(1 + √K)) within [1e-4, 0.05]")
+              "γ̇ d / sqrt(σ_yy/ρ_p)) within [1e-4, 0.02], immersed 0.0625 √K/(1 + √K) (K = J + "
+              "α I² at the target, φ = φ_m/(1 + √K); loop gain 0.125) within [1e-4, 0.05]")
       .greater_than(0);
   control.number("servo_max_strain", "", "largest relative height change per servo update")
       .default_value("0.002")
@@ -177,9 +177,9 @@ ShearDeckParams read_shear_params(const core::Case& c) {
   w.tangential_lubrication = c.boolean("dem_liquid.tangential_lubrication");
   w.rotational_drag = c.boolean("dem_liquid.rotational_drag");
   w.viscous_safety = c.number("dem_liquid.viscous_time_step_safety");
-  // Servo gain default (needs the liquid): loop gain ≈ 0.25 from d ln σ/d ln φ at the target,
-  // dry from I, immersed from K = J + α I² (shear_deck.hpp, default_servo_gain; 0.01 at I = 0.01
-  // made sigma_yy oscillate at twice the target, the dry rule at J = 0.1 left it 1.9x high).
+  // Servo gain default (needs the liquid): from d ln σ/d ln φ at the target, dry from I (loop
+  // gain 0.25), immersed from K = J + α I² (0.125; shear_deck.hpp, default_servo_gain; 0.01 at
+  // I = 0.01 made sigma_yy oscillate at twice the target).
   if (!c.has("control.servo_gain") && p.constant_pressure) p.servo_gain = default_servo_gain(p);
   return p;
 }

@@ -90,16 +90,17 @@ struct ShearDeck {
 // checked before LIGGGHTS starts. Empty when the case can run.
 std::vector<std::pair<std::string, std::string>> check_shear_params(const ShearDeckParams& p);
 
-// Default gain of the constant-normal-stress servo (NormalStressServo), for a loop gain
-// gain × k ≈ 0.25 (over-damped integral control), k = d ln σ_yy / d ln φ at the target state.
-// Dry: φ_c - φ ≈ a I, k ≈ 2.4 / I, gain = 0.1 I_target within [1e-4, 0.02] (I_target = γ̇ d /
-// sqrt(σ_yy/ρ_p); 0.01 at I = 0.1 as in liggghts-study.md).
+// Default gain of the constant-normal-stress servo (NormalStressServo): gain × k = loop gain,
+// k = d ln σ_yy / d ln φ at the target state.
+// Dry (loop gain 0.25): φ_c - φ ≈ a I, k ≈ 2.4 / I, gain = 0.1 I_target within [1e-4, 0.02]
+// (I_target = γ̇ d / sqrt(σ_yy/ρ_p); 0.01 at I = 0.1 as in liggghts-study.md).
 // Immersed: the steady state follows φ = φ_m / (1 + √K), K = J + α I² (Boyer, Guazzelli & Pouliquen
 // 2011, Phys. Rev. Lett. 107, 188301, φ(J) with J -> K; Trulsson et al. 2012, α = liquid.
 // trulsson_alpha). At fixed γ̇ and η0 both J = η0 γ̇/σ and I² = ρ_p d² γ̇²/σ are ∝ 1/σ, so
 // k = 2 (1 + √K)/√K at K_target: 8 at J = 0.1 (viscous, loose) against 50 at St = 100, 100 Pa
-// (dense); gain = 0.25/k within [1e-4, 0.05]. In the inertial limit this is 0.125 √α I ≈ 0.1 I,
-// the dry rule. A gain from the dry rule alone (0.01 at I = 0.1) is 3x too small at J = 0.1.
+// (dense). gain = 0.125/k within [1e-4, 0.05] (loop gain 0.125: immersed decks move the height
+// and then hold it, and the stress just after a move exceeds the steady response; measured in
+// docs/dem_fluid.md). The dry rule alone (0.01 at I = 0.1) is 1.5x too small at J = 0.1.
 double default_servo_gain(const ShearDeckParams& p);
 
 // Builds the deck; `data_file_name` is the particle file name as the deck refers to it.

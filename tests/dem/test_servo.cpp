@@ -122,12 +122,12 @@ TEST(DemServo, DefaultGainIsTheDryRuleWithoutLiquid) {
 
 TEST(DemServo, ImmersedGainFollowsTheMixedNumberAtTheTarget) {
   // η0 = 0.25 Pa s, p0 = 25 Pa: J = 0.1, I = 0.1, K = 0.1 + 0.6 × 0.01 = 0.106,
-  // gain = 0.25 / (2 (1 + √K)/√K) = 0.125 √K/(1 + √K).
+  // gain = 0.125 / (2 (1 + √K)/√K) = 0.0625 √K/(1 + √K).
   const double root_k = std::sqrt(0.106);
-  EXPECT_NEAR(default_servo_gain(immersed({0.25, 25.0})), 0.125 * root_k / (1.0 + root_k), 1e-15);
-  // Inertial limit (η0 -> 0): 0.125 √α I/(1 + √α I), within 10 % of the dry rule 0.1 I.
+  EXPECT_NEAR(default_servo_gain(immersed({0.25, 25.0})), 0.0625 * root_k / (1.0 + root_k), 1e-15);
+  // Inertial limit (η0 -> 0): 0.0625 √α I/(1 + √α I), within 10 % of half the dry rule 0.1 I.
   const double gain = default_servo_gain(immersed({1e-9, 100.0}));
-  EXPECT_NEAR(gain, 0.005, 0.1 * 0.005);
+  EXPECT_NEAR(gain, 0.0025, 0.1 * 0.0025);
 }
 
 TEST(DemServo, ImmersedDecksMoveTheHeightOverTwoFifthsOfTheIntervalThenHold) {
@@ -149,7 +149,7 @@ TEST(DemServo, ImmersedDecksMoveTheHeightOverTwoFifthsOfTheIntervalThenHold) {
 
 TEST(DemServo, ViscousRegimeServoSettlesOnItsTarget) {
   // The failing point: 25 Pa, St = 0.1, rate response β = 3. With the immersed default gain
-  // (0.031), the wet clamp of 0.01 per 0.05 strain and move-then-hold, the servo's interval mean
+  // (0.015), the wet clamp of 0.01 per 0.05 strain and move-then-hold, the servo's interval mean
   // is within 2 % of p0 from strain 3 to 8 (2 %: a third of the DEM point's standard error of
   // σ_yy, 0.62/25; this plant leaves < 0.2 %), for the DEM's rheology and Boyer's.
   constexpr double beta = 3.0;
@@ -159,8 +159,8 @@ TEST(DemServo, ViscousRegimeServoSettlesOnItsTarget) {
   EXPECT_LT(worst_after(run_loop(boyer, viscous, gain, 0.01, 2, beta), 3.0), 0.02);
   // Without the rate response, moving over the whole interval would do as well...
   EXPECT_LT(worst_after(run_loop(dem_fit, viscous, gain, 0.01, 0, 0.0), 3.0), 0.02);
-  // ...but with it the loop locks into a period-2 cycle at the clamp (the DEM rerun with these
-  // settings: interval means alternating 12 and 75 Pa, mean 40 Pa):
+  // ...but with it the loop locks into a period-2 cycle at the clamp (the DEM, moving throughout
+  // at twice this gain: interval means alternating 12 and 75 Pa, mean 40 Pa):
   EXPECT_GT(worst_after(run_loop(dem_fit, viscous, gain, 0.01, 0, beta), 3.0), 0.3);
   // The sweep's settings (dry-rule gain 0.01, clamp 0.002, moving throughout) are still > 10 %
   // high at strain 8 (1.86 p0 in the DEM), and the new gain alone does not cure them.
@@ -171,7 +171,9 @@ TEST(DemServo, ViscousRegimeServoSettlesOnItsTarget) {
 TEST(DemServo, ImmersedDefaultGainIsStableAtTheDenseInertialEnd) {
   // St = 1 to 100 at 25 and 100 Pa (d ln σ/d ln φ ~ 20-90): the same rule, clamp and
   // move-then-hold settle within 2 % by strain 3 and stay there (no growing oscillation), for
-  // the DEM's rheology and Boyer's; a gain 10x the default oscillates (loop gain > 2).
+  // the DEM's rheology and Boyer's; a gain 20x the default oscillates (loop gain 2.5 > 2).
+  // (This plant has no overshoot of the contact network after a fast move; in the DEM that is
+  // what made twice the default gain cycle at St = 1-100, 25 Pa, docs/dem_fluid.md.)
   constexpr double beta = 3.0;
   for (const Condition c : {Condition{2.5e-4, 100.0}, Condition{2.5e-4, 25.0},
                             Condition{2.5e-3, 100.0}, Condition{0.025, 25.0}}) {
@@ -182,7 +184,7 @@ TEST(DemServo, ImmersedDefaultGainIsStableAtTheDenseInertialEnd) {
   const Condition dense{2.5e-4, 100.0};
   EXPECT_GT(
       worst_after(
-          run_loop(dem_fit, dense, 10.0 * default_servo_gain(immersed(dense)), 0.01, 2, beta), 3.0),
+          run_loop(dem_fit, dense, 20.0 * default_servo_gain(immersed(dense)), 0.01, 2, beta), 3.0),
       0.1);
 }
 
