@@ -833,10 +833,11 @@ int run_rheometer(core::RunContext& ctx) {
     for (double v : vol_s) d = std::max(d, std::fabs(v - vol_s.front()) / vol_s.front());
     return d;
   }();
+  // max |p̄ − u_w0| relative to u_w0 (to p'0 when the initial pore pressure is 0)
   const double pw_dev = [&]() {
     double d = 0;
     for (double p : pw_s) d = std::max(d, std::fabs(p - pw_s.front()));
-    return d / std::max(std::fabs(pw_s.front()), spec.effective_pressure);
+    return d / (std::fabs(pw_s.front()) > 0 ? std::fabs(pw_s.front()) : spec.effective_pressure);
   }();
   common_summary(ctx, s, wall, ms0, ml0);
   auto& sum = ctx.summary;
