@@ -88,6 +88,7 @@ fix             gf_shear all deform 1 xy erate 50 remap v
 
 FLUID = ("fix fluid all fluid/le viscosity 0.01 permeability seed_eq26 drag yes rotation yes "
          "lubrication 5e-5 1e-6 tangential yes sums sampled")
+DRAG_ONLY = ("fix fluid all fluid/le viscosity 0.01 permeability seed_eq26 drag yes rotation yes")
 
 
 def run(driver, workdir, fluid, ranks, steps, cpu=False):
@@ -151,7 +152,6 @@ def cpu_table(driver, out, steps, repeat, baseline=None):
         print(f"| {name} | {t:.3f} | {t / dry:.2f} |")
 
 
-DRAG_ONLY = ("fix fluid all fluid/le viscosity 0.01 permeability seed_eq26 drag yes rotation yes")
 BREAKDOWN = {
     "dry": "",
     "dry + list reach of the wet run (contact_distance_factor 1.0556)":
