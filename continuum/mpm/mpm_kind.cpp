@@ -63,6 +63,11 @@ void add_numerics(core::Schema& s, NumericsDefaults d) {
   n.boolean("liquid_volumetric_smoothing",
             "cell-averaged volumetric rate for the liquid pressure (linear shapes)")
       .default_value(d.smoothing);
+  n.number("pressure_relaxation_time", "s",
+           "t_p: the pore pressure relaxes towards its nodal average at the rate 1/t_p (removes "
+           "the cell-to-cell checkerboard of p; 0 = off; linear shapes; docs/mpm.md)")
+      .default_value("0")
+      .at_least(0);
   n.integer("threads", "OpenMP threads (0: one per 10,000 points, at most OMP_NUM_THREADS)")
       .default_value("0")
       .at_least(0);
@@ -207,6 +212,7 @@ SolverOptions read_options(const core::Case& c) {
                            ? DragIntegration::explicit_euler
                            : DragIntegration::semi_implicit;
   o.liquid_volumetric_smoothing = c.boolean("numerics.liquid_volumetric_smoothing");
+  o.pressure_relaxation_time = c.number("numerics.pressure_relaxation_time");
   o.threads = static_cast<int>(c.integer("numerics.threads"));
   return o;
 }
@@ -218,6 +224,8 @@ void check_common(const core::Case& c) {
            "not both");
   if (c.boolean("numerics.liquid_volumetric_smoothing") && c.string("numerics.shape") == "gimp")
     c.fail("numerics.liquid_volumetric_smoothing", "false with gimp (cell averaging needs linear)");
+  if (c.number("numerics.pressure_relaxation_time") > 0 && c.string("numerics.shape") == "gimp")
+    c.fail("numerics.pressure_relaxation_time", "0 with gimp (nodal averaging with linear shapes)");
 }
 
 bool multiple(double length, double cell) {

@@ -77,6 +77,10 @@ Solver::Solver(Grid grid, SolverOptions options, LiquidOptions liquid)
   if (options_.liquid_volumetric_smoothing && options_.shape != ShapeKind::linear) {
     throw std::invalid_argument("liquid volumetric smoothing needs linear shape functions");
   }
+  if (!(options_.pressure_relaxation_time >= 0.0) ||
+      (options_.pressure_relaxation_time > 0.0 && options_.shape != ShapeKind::linear)) {
+    throw std::invalid_argument("pressure relaxation time must be >= 0 (linear shapes only)");
+  }
   if (!(options_.flip >= 0.0 && options_.flip <= 1.0)) {
     throw std::invalid_argument("flip fraction must be in [0, 1]");
   }
@@ -172,6 +176,7 @@ void Solver::initialize() {
   nodes_.porosity.assign(nn_, 1.0);
   div_solid_.assign(liquid_.size(), 0.0);
   volumetric_rate_.assign(liquid_.size(), 0.0);
+  pressure_change_.assign(options_.pressure_relaxation_time > 0.0 ? liquid_.size() : 0, 0.0);
   point_conductivity_.assign(options_.material_conductivity ? solid_.size() : 0, 0.0);
   if (options_.temperature_conductivity > 0 || options_.material_conductivity) {
     nodal_temperature_.assign(nn_, 0.0);
@@ -1018,6 +1023,74 @@ void Solver::conduct_temperature(const G& grid) {
   }
 }
 
+// Relaxation of the pore pressure towards its nodal average (numerics.pressure_relaxation_time
+// t_p), applied to the start-of-step p with the start-of-step stencils:
+//   p_a = Σ_q N_a(x_q) V_q p_q / Σ_q N_a(x_q) V_q,   p̃_p = Σ_a N_a(x_p) p_a,
+//   p_p ← p_p − (1 − exp(−Δt/t_p)) (p_p − p̃_p) − mean,
+// the volume-weighted mean of the change removed (Σ V Δp = 0, the mean pore pressure is kept).
+// A pressure alternating from cell to cell has p̃ = 0 and decays as exp(−t/t_p); it is a
+// near-zero-energy mode of the cell-constant rate (its nodal forces nearly cancel), which
+// nothing else restrains. A smooth p changes by O(h² ∇²p): a diffusivity ~ h²/t_p, negligible
+// against the physical one of a saturated sand, (κ/η0)(K_w/n) (docs/mpm.md).
+template <class G>
+void Solver::relax_pressure(const G& grid) {
+  const int nn = nn_;
+  LiquidPoints& lp = liquid_;
+  const long np = static_cast<long>(lp.size());
+  scatter(2, [&](double* acc, int t, int T) {
+    std::size_t b, e;
+    chunk(lp.size(), t, T, b, e);
+    Stencil st{};
+    for (std::size_t p = b; p < e; ++p) {
+      if (!locate<G, ShapeKind::linear>(grid, 1, p, st)) continue;
+      const double V = lp.volume[p], Vp = V * lp.pressure[p];
+      for (int k = 0; k < st.count; ++k) {
+        acc[st.node[k]] += st.N[k] * Vp;
+        acc[nn + st.node[k]] += st.N[k] * V;
+      }
+    }
+  });
+  const double alpha = 1.0 - std::exp(-dt_ / options_.pressure_relaxation_time);
+  double* change = pressure_change_.data();
+  auto part = [&](int t) {
+    std::size_t b, e;
+    chunk(lp.size(), t, threads_, b, e);
+    Stencil st{};
+    double sum = 0.0, volume = 0.0;
+    for (std::size_t p = b; p < e; ++p) {
+      change[p] = 0.0;
+      if (!locate<G, ShapeKind::linear>(grid, 1, p, st)) continue;
+      double avg = 0.0, w = 0.0;
+      for (int k = 0; k < st.count; ++k) {
+        const int a = st.node[k];
+        if (acc_[nn + a] > 0.0) {
+          avg += st.N[k] * acc_[a] / acc_[nn + a];
+          w += st.N[k];
+        }
+      }
+      if (w > 0.0) change[p] = -alpha * (lp.pressure[p] - avg / w);
+      sum += lp.volume[p] * change[p];
+      volume += lp.volume[p];
+    }
+    slots_[t].sum[0] = sum;
+    slots_[t].sum[1] = volume;
+  };
+  if (threads_ == 1) {
+    part(0);
+  } else {
+#pragma omp parallel num_threads(threads_)
+    part(omp_get_thread_num());
+  }
+  double sum = 0.0, volume = 0.0;
+  for (const auto& slot : slots_) {
+    sum += slot.sum[0];
+    volume += slot.sum[1];
+  }
+  const double mean = volume > 0.0 ? sum / volume : 0.0;
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
+  for (long p = 0; p < np; ++p) lp.pressure[p] += change[p] - mean;
+}
+
 void Solver::move_points() {
 #pragma omp parallel num_threads(threads_) if (threads_ > 1)
   for (int phase = 0; phase < 2; ++phase) {
@@ -1067,7 +1140,8 @@ void Solver::constitutive_update(bool move) {
   double* rate = volumetric_rate_.data();
   // The pore pressure needs the volumetric rate of all liquid points first only when it is
   // cell-averaged or its mean removed; otherwise each point uses its own, in the same pass.
-  const bool rate_pass = options_.liquid_volumetric_smoothing || options_.closed_domain;
+  const bool rate_pass = options_.liquid_volumetric_smoothing || options_.closed_domain ||
+                         options_.pressure_relaxation_time > 0.0;
   // Per point; true when the point holds a non-finite or non-positive value.
   auto solid_point = [&](long p) {
     // dV/V = tr(D) dt (plane strain); grains incompressible: n = 1 - V_s / V.
@@ -1174,6 +1248,9 @@ void Solver::constitutive_update(bool move) {
         volume += slot.sum[1];
       }
       mean_rate = rate_volume / volume;
+    }
+    if (options_.pressure_relaxation_time > 0.0) {
+      std::visit([&](const auto& g) { relax_pressure<std::decay_t<decltype(g)>>(g); }, grid_);
     }
 #pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1) \
     reduction(max                                                                 \

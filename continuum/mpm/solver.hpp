@@ -64,6 +64,9 @@ struct SolverOptions {
   // conductivity; the multi-regime material: ρ_p d f4 T^½) instead of the constant above.
   bool material_conductivity = false;
   bool liquid_volumetric_smoothing = false;  // cell-averaged volumetric rate for p (linear)
+  // t_p, s (> 0: on; linear shapes): the pore pressure relaxes towards its nodal average at the
+  // rate 1/t_p, which removes the cell-to-cell checkerboard of p (Solver::relax_pressure).
+  double pressure_relaxation_time = 0.0;
   // Closed rigid container (every boundary impermeable and fixed normally, e.g. the rheometer):
   // ∫ div(mixture flux) dV = 0 exactly, so the volume-weighted mean of the liquid points'
   // volumetric rate, which point quadrature leaves non-zero, is removed before dp is formed.
@@ -200,6 +203,8 @@ class Solver {
   bool locate(const G& grid, int phase, std::size_t p, Stencil& st);
   void solve_porosity_only();
   void refresh_liquid_state();
+  template <class G>
+  void relax_pressure(const G& grid);    // pore pressure towards its nodal average (t_p)
   void move_points();                    // x += Δx of the step, at its end
   void throw_if_lost() const;            // a point that the last map found outside the grid
   double viscosity_at(double nu) const;  // η(ν)
@@ -257,6 +262,7 @@ class Solver {
   std::vector<double> asx_, asy_, alx_, aly_, porosity_;
   std::vector<double> div_solid_;  // tr(D_S) at the liquid points
   std::vector<double> volumetric_rate_;
+  std::vector<double> pressure_change_;  // Δp of relax_pressure per liquid point
   std::vector<int> liquid_cell_;
   std::vector<double> temperature_gradient_x_, temperature_gradient_y_;
   std::vector<double> point_conductivity_;  // κ_T per solid point (material_conductivity)
