@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace granflow::mpm {
 
@@ -1032,6 +1033,35 @@ void Solver::conduct_temperature(const G& grid) {
 // near-zero-energy mode of the cell-constant rate (its nodal forces nearly cancel), which
 // nothing else restrains. A smooth p changes by O(h² ∇²p): a diffusivity ~ h²/t_p, negligible
 // against the physical one of a saturated sand, (κ/η0)(K_w/n) (docs/mpm.md).
+template <class PointValue>
+std::pair<double, double> Solver::liquid_volume_sums(PointValue&& value) {
+  auto part = [&](int t) {
+    std::size_t b, e;
+    chunk(liquid_.size(), t, threads_, b, e);
+    double weighted = 0.0, volume = 0.0;
+    for (std::size_t p = b; p < e; ++p) {
+      const std::optional<double> x = value(p);
+      if (!x) continue;
+      weighted += liquid_.volume[p] * *x;
+      volume += liquid_.volume[p];
+    }
+    slots_[t].sum[0] = weighted;
+    slots_[t].sum[1] = volume;
+  };
+  if (threads_ == 1) {
+    part(0);
+  } else {
+#pragma omp parallel num_threads(threads_)
+    part(omp_get_thread_num());
+  }
+  double weighted = 0.0, volume = 0.0;
+  for (const auto& slot : slots_) {
+    weighted += slot.sum[0];
+    volume += slot.sum[1];
+  }
+  return {weighted, volume};
+}
+
 template <class G>
 void Solver::relax_pressure(const G& grid) {
   const int nn = nn_;
@@ -1052,40 +1082,21 @@ void Solver::relax_pressure(const G& grid) {
   });
   const double alpha = 1.0 - std::exp(-dt_ / options_.pressure_relaxation_time);
   double* change = pressure_change_.data();
-  auto part = [&](int t) {
-    std::size_t b, e;
-    chunk(lp.size(), t, threads_, b, e);
+  const auto [sum, volume] = liquid_volume_sums([&](std::size_t p) -> std::optional<double> {
     Stencil st{};
-    double sum = 0.0, volume = 0.0;
-    for (std::size_t p = b; p < e; ++p) {
-      change[p] = 0.0;
-      if (!locate<G, ShapeKind::linear>(grid, 1, p, st)) continue;
-      double avg = 0.0, w = 0.0;
-      for (int k = 0; k < st.count; ++k) {
-        const int a = st.node[k];
-        if (acc_[nn + a] > 0.0) {
-          avg += st.N[k] * acc_[a] / acc_[nn + a];
-          w += st.N[k];
-        }
+    change[p] = 0.0;
+    if (!locate<G, ShapeKind::linear>(grid, 1, p, st)) return std::nullopt;
+    double avg = 0.0, w = 0.0;
+    for (int k = 0; k < st.count; ++k) {
+      const int a = st.node[k];
+      if (acc_[nn + a] > 0.0) {
+        avg += st.N[k] * acc_[a] / acc_[nn + a];
+        w += st.N[k];
       }
-      if (w > 0.0) change[p] = -alpha * (lp.pressure[p] - avg / w);
-      sum += lp.volume[p] * change[p];
-      volume += lp.volume[p];
     }
-    slots_[t].sum[0] = sum;
-    slots_[t].sum[1] = volume;
-  };
-  if (threads_ == 1) {
-    part(0);
-  } else {
-#pragma omp parallel num_threads(threads_)
-    part(omp_get_thread_num());
-  }
-  double sum = 0.0, volume = 0.0;
-  for (const auto& slot : slots_) {
-    sum += slot.sum[0];
-    volume += slot.sum[1];
-  }
+    if (w > 0.0) change[p] = -alpha * (lp.pressure[p] - avg / w);
+    return change[p];
+  });
   const double mean = volume > 0.0 ? sum / volume : 0.0;
 #pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
   for (long p = 0; p < np; ++p) lp.pressure[p] += change[p] - mean;
@@ -1222,31 +1233,12 @@ void Solver::constitutive_update(bool move) {
     };
     double mean_rate = 0.0;
     if (options_.closed_domain) {
-      // Volume-weighted mean rate: per-thread partial sums over fixed chunks, added in thread
-      // order (reproducible for a thread count, unlike an OpenMP reduction's arrival order).
-      auto partial = [&](int t) {
-        std::size_t b, e;
-        chunk(static_cast<std::size_t>(nl), t, threads_, b, e);
-        double rate_volume = 0.0, volume = 0.0;
-        for (std::size_t p = b; p < e; ++p) {
-          smooth(static_cast<long>(p));
-          rate_volume += liquid_.volume[p] * rate[p];
-          volume += liquid_.volume[p];
-        }
-        slots_[t].sum[0] = rate_volume;
-        slots_[t].sum[1] = volume;
-      };
-      if (threads_ == 1) {
-        partial(0);
-      } else {
-#pragma omp parallel num_threads(threads_)
-        partial(omp_get_thread_num());
-      }
-      double rate_volume = 0.0, volume = 0.0;
-      for (const auto& slot : slots_) {
-        rate_volume += slot.sum[0];
-        volume += slot.sum[1];
-      }
+      // Volume-weighted mean rate (smoothing the rate of each point on the way).
+      const auto [rate_volume, volume] =
+          liquid_volume_sums([&](std::size_t p) -> std::optional<double> {
+            smooth(static_cast<long>(p));
+            return rate[p];
+          });
       mean_rate = rate_volume / volume;
     }
     if (options_.pressure_relaxation_time > 0.0) {

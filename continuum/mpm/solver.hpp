@@ -11,6 +11,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -204,7 +205,12 @@ class Solver {
   void solve_porosity_only();
   void refresh_liquid_state();
   template <class G>
-  void relax_pressure(const G& grid);    // pore pressure towards its nodal average (t_p)
+  void relax_pressure(const G& grid);  // pore pressure towards its nodal average (t_p)
+  // Σ_p V_p x_p and Σ_p V_p over the liquid points whose value(p) gives an x_p (per-point work
+  // may happen inside value); fixed chunks per thread added in thread order, so the result is
+  // reproducible for a thread count (unlike an OpenMP reduction's arrival order).
+  template <class PointValue>
+  std::pair<double, double> liquid_volume_sums(PointValue&& value);
   void move_points();                    // x += Δx of the step, at its end
   void throw_if_lost() const;            // a point that the last map found outside the grid
   double viscosity_at(double nu) const;  // η(ν)
