@@ -48,6 +48,17 @@ core::Schema shear_schema() {
       .default_value("0.1")
       .at_least(0)
       .less_than(1);
+  material
+      .choice("contact_law", {"hertz", "hooke"},
+              "normal contact: hertz (Hertz-Mindlin from E, ν) or hooke (linear spring-dashpot "
+              "k_n, k_t, as in Silbert et al. 2001 and Chialvo et al. 2012); tangential history "
+              "spring with Coulomb limit and damping from e in both")
+      .default_value("hertz");
+  material.number("normal_stiffness", "N/m", "hooke: normal spring k_n (required for hooke)")
+      .greater_than(0);
+  material.number("tangential_stiffness_ratio", "", "hooke: k_t / k_n")
+      .default_value("0.2857142857142857")
+      .greater_than(0);
   s.add(std::move(material));
   // Immersed runs (issue 5): the continuum's liquid section (enabled, viscosity, permeability,
   // sphericity, trulsson_alpha are read; the other keys are the continuum's) plus DEM-only keys.
@@ -86,7 +97,9 @@ core::Schema shear_schema() {
       .default_value("1")
       .at_least(0);
   dem.integer("ranks", "MPI ranks (mpirun -np) for granflow-dem").default_value("1").at_least(1);
-  dem.number("time_step_safety", "", "Δt = safety × min(Rayleigh time, Hertz contact time)")
+  dem.number("time_step_safety", "",
+             "Δt = safety × min(Rayleigh time, Hertz contact time); hooke: safety × t_c of the "
+             "linear spring-dashpot")
       .default_value("0.1")
       .greater_than(0)
       .at_most(0.5);
@@ -150,6 +163,11 @@ ShearDeckParams read_shear_params(const core::Case& c) {
   m.size_ratio = c.number("material.size_ratio");
   m.large_fraction = c.number("material.large_fraction");
   m.polydispersity = c.number("material.polydispersity");
+  m.contact_law =
+      c.string("material.contact_law") == "hooke" ? ContactLaw::hooke : ContactLaw::hertz;
+  if (c.has("material.normal_stiffness"))
+    m.normal_stiffness = c.number("material.normal_stiffness");
+  m.tangential_stiffness_ratio = c.number("material.tangential_stiffness_ratio");
   p.particles = c.integer("dem.particles");
   p.seed = static_cast<unsigned long>(c.integer("dem.seed"));
   p.dt_safety = c.number("dem.time_step_safety");
@@ -191,6 +209,9 @@ void check_shear(const core::Case& sweep_case) {
     if (c.string("control.mode") == "constant_pressure" && !c.has("control.normal_stress"))
       c.fail("control.normal_stress",
              "missing required key for constant_pressure; expected σ_yy > 0 [Pa]");
+    if (c.string("material.contact_law") == "hooke" && !c.has("material.normal_stiffness"))
+      c.fail("material.normal_stiffness",
+             "missing required key for contact_law: hooke; expected k_n > 0 [N/m]");
     const ShearDeckParams p = read_shear_params(c);
     for (const auto& [path, expected] : check_shear_params(p)) c.fail(path, expected);
     const ShearDeck deck = make_shear_deck(p, "particles.data");
@@ -298,6 +319,12 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
   }
   out.attribute(group, "rayleigh_time", deck.times.rayleigh);
   out.attribute(group, "hertz_time", deck.times.hertz);
+  out.attribute(group, "contact_law",
+                p.material.contact_law == ContactLaw::hooke ? "hooke" : "hertz");
+  if (p.material.contact_law == ContactLaw::hooke) {
+    out.attribute(group, "linear_spring_contact_time", deck.times.linear_spring);
+    out.attribute(group, "normal_stiffness", p.material.normal_stiffness);
+  }
   out.attribute(group, "shear_rate", p.shear_rate);
   out.attribute(group, "mean_diameter", deck.mean_diameter);
   out.attribute(group, "particles", double(p.particles));
@@ -421,11 +448,18 @@ int run_shear(core::RunContext& ctx) {
     const int ranks = static_cast<int>(c.integer("dem.ranks"));
     const auto command = driver_command(ranks, "in.granflow");
     const std::string label = label_of(cc.index);
+    const std::string contact_rule =
+        p.material.contact_law == ContactLaw::hooke
+            ? fmt::format("{:g} × t_c {:.4g} s (linear spring-dashpot, k_n {:g} N/m)", p.dt_safety,
+                          deck.times.linear_spring, p.material.normal_stiffness)
+            : fmt::format("{:g} × min(t_Rayleigh {:.4g} s, t_Hertz {:.4g} s at {:.3g} m/s)",
+                          p.dt_safety, deck.times.rayleigh, deck.times.hertz,
+                          deck.times.reference_speed);
     cc.log->info(
-        "{}: {} particles, γ̇ = {:g} 1/s, Δt = {:.4g} s set by the {} limit; contact: {:g} × "
-        "min(t_Rayleigh {:.4g} s, t_Hertz {:.4g} s at {:.3g} m/s); {} shear steps ({} per sample)",
-        label, p.particles, p.shear_rate, deck.dt, deck.dt_limit, p.dt_safety, deck.times.rayleigh,
-        deck.times.hertz, deck.times.reference_speed, deck.total_steps, deck.sample_every);
+        "{}: {} particles, γ̇ = {:g} 1/s, Δt = {:.4g} s set by the {} limit; contact: {}; {} "
+        "shear steps ({} per sample)",
+        label, p.particles, p.shear_rate, deck.dt, deck.dt_limit, contact_rule, deck.total_steps,
+        deck.sample_every);
     if (p.wet.enabled)
       cc.log->info(
           "{}: immersed, η0 = {:g} Pa s, St = ρ_p d² γ̇/η0 = {:.4g}; viscous time scales at ν = "

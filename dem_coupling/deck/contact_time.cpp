@@ -24,6 +24,20 @@ double hertz_contact_time(double radius, double particle_density, double youngs_
                   0.2);
 }
 
+double linear_spring_damping_rate(double effective_mass, double normal_stiffness,
+                                  double restitution) {
+  const double log_e = std::log(restitution);
+  return 2.0 * std::sqrt(normal_stiffness / effective_mass) * (-log_e) /
+         std::sqrt(std::numbers::pi * std::numbers::pi + log_e * log_e);
+}
+
+double linear_spring_contact_time(double effective_mass, double normal_stiffness,
+                                  double restitution) {
+  const double log_e = std::log(restitution);
+  return std::numbers::pi * std::sqrt(effective_mass / normal_stiffness) *
+         std::sqrt(1.0 + log_e * log_e / (std::numbers::pi * std::numbers::pi));
+}
+
 ContactTimes contact_times(double smallest_radius, double particle_density, double youngs_modulus,
                            double poisson_ratio, double reference_speed) {
   ContactTimes t;

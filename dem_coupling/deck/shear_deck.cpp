@@ -41,11 +41,44 @@ SizeRange size_range(const DemMaterial& m) {
   return {m.diameter, m.diameter};
 }
 
+double sphere_mass(double diameter, double particle_density) {
+  return particle_density * std::numbers::pi / 6.0 * diameter * diameter * diameter;
+}
+
 long steps_for(double strain, double shear_rate, double dt) {
   return std::max(1L, std::lround(strain / (shear_rate * dt)));
 }
 
 }  // namespace
+
+std::string contact_law_commands(const DemMaterial& m, double mean_diameter) {
+  const std::string friction =
+      fmt::format("fix m4 all property/global coefficientFriction peratomtypepair 1 {:.17g}\n",
+                  m.particle_friction);
+  if (m.contact_law == ContactLaw::hertz)
+    return fmt::format(
+        "fix m1 all property/global youngsModulus peratomtype {:.17g}\n"
+        "fix m2 all property/global poissonsRatio peratomtype {:.17g}\n"
+        "fix m3 all property/global coefficientRestitution peratomtypepair 1 {:.17g}\n{}"
+        "pair_style      gran model hertz tangential history\npair_coeff      * *\n",
+        m.youngs_modulus, m.poisson_ratio, m.restitution, friction);
+  // hooke/stiffness without absolute_damping: the damping force is m* gamman v_n, so gamman is
+  // the damping rate γ_n/m* (1/s) of a pair of mean-diameter spheres (contact_time.hpp); the
+  // tangential dashpot has the same rate (LIGGGHTS' tangential_damping, on as for hertz).
+  const double rate = linear_spring_damping_rate(
+      0.5 * sphere_mass(mean_diameter, m.particle_density), m.normal_stiffness, m.restitution);
+  return fmt::format(
+      "# linear spring-dashpot: k_n = {0:.6g} N/m, k_t = {1:.6g} k_n, restitution {2:.6g} for a "
+      "pair of d = {3:.6g} m\n"
+      "fix m1 all property/global kn peratomtypepair 1 {0:.17g}\n"
+      "fix m2 all property/global kt peratomtypepair 1 {4:.17g}\n"
+      "fix m3 all property/global gamman peratomtypepair 1 {5:.17g}\n"
+      "fix m5 all property/global gammat peratomtypepair 1 {5:.17g}\n{6}"
+      "pair_style      gran model hooke/stiffness tangential history absolute_damping off\n"
+      "pair_coeff      * *\n",
+      m.normal_stiffness, m.tangential_stiffness_ratio, m.restitution, mean_diameter,
+      m.tangential_stiffness_ratio * m.normal_stiffness, rate, friction);
+}
 
 std::vector<std::pair<std::string, std::string>> check_shear_params(const ShearDeckParams& p) {
   std::vector<std::pair<std::string, std::string>> issues;
@@ -57,7 +90,13 @@ std::vector<std::pair<std::string, std::string>> check_shear_params(const ShearD
   if (!(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5))
     issues.emplace_back("material.poisson_ratio", "in (-1, 0.5)");
   if (!(m.restitution > 0.0 && m.restitution <= 1.0))
-    issues.emplace_back("material.restitution", "in (0, 1] (Hertz damping needs e > 0)");
+    issues.emplace_back("material.restitution", "in (0, 1] (the contact damping needs e > 0)");
+  if (m.contact_law == ContactLaw::hooke) {
+    if (!(m.normal_stiffness > 0.0))
+      issues.emplace_back("material.normal_stiffness", "k_n > 0 [N/m] for contact_law: hooke");
+    if (!(m.tangential_stiffness_ratio > 0.0))
+      issues.emplace_back("material.tangential_stiffness_ratio", "k_t / k_n > 0");
+  }
   if (!(p.solid_fraction > 0.0 && p.solid_fraction < max_solid_fraction))
     issues.emplace_back("control.solid_fraction",
                         fmt::format("in (0, {}) (random close packing)", max_solid_fraction));
@@ -165,6 +204,9 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
   const double reference_speed = p.impact_speed_factor * p.shear_rate * range.large;
   out.times = contact_times(0.5 * range.small, m.particle_density, m.youngs_modulus,
                             m.poisson_ratio, reference_speed);
+  if (m.contact_law == ContactLaw::hooke)  // two of the smallest spheres: m* = m_small / 2
+    out.times.linear_spring = linear_spring_contact_time(
+        0.5 * sphere_mass(range.small, m.particle_density), m.normal_stiffness, m.restitution);
   out.dt = p.dt_safety * out.times.shortest();
   std::string fluid_fix;
   if (p.wet.enabled) {
@@ -233,7 +275,7 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
 # bug of LIGGGHTS-PUBLIC 3.8.0 (domain.cpp:144-145, prd_lamda = 0) and runs the shear stage
 # (sampling every gf_sample_every steps, constant-normal-stress servo) after this file:
 #   granflow-dem in.granflow            or   mpirun -np 2 granflow-dem in.granflow
-# dt = {dt_safety} * min(t_Rayleigh = {t_r:.6g} s, t_Hertz = {t_h:.6g} s at {v_ref:.4g} m/s)
+# {dt_rule}
 
 # ---- parameters read by granflow-dem
 variable gf_shear_rate equal {gd:.17g}
@@ -261,13 +303,7 @@ read_data       {data}
 neighbor        {skin:.17g} bin
 neigh_modify    delay 0
 
-fix m1 all property/global youngsModulus peratomtype {E:.17g}
-fix m2 all property/global poissonsRatio peratomtype {nu:.17g}
-fix m3 all property/global coefficientRestitution peratomtypepair 1 {e:.17g}
-fix m4 all property/global coefficientFriction peratomtypepair 1 {mu:.17g}
-pair_style      gran model hertz tangential history
-pair_coeff      * *
-timestep        {dt:.17g}
+{contact}timestep        {dt:.17g}
 fix             integr all nve/sphere
 
 # contact (pair + fix) virial; the kinetic part about the streaming profile is added by the driver
@@ -286,16 +322,21 @@ velocity        all ramp vx 0 {vtop:.17g} y 0 {l1:.17g} units box sum yes
 fix             gf_shear all deform 1 xy erate {gd:.17g} remap v
 thermo          0                            # thermo (and the virial) at the end of each sampled chunk
 )",
-      fmt::arg("dt_safety", p.dt_safety), fmt::arg("t_r", out.times.rayleigh),
-      fmt::arg("t_h", out.times.hertz), fmt::arg("v_ref", reference_speed),
+      fmt::arg(
+          "dt_rule",
+          m.contact_law == ContactLaw::hooke
+              ? fmt::format("dt = {} * t_c = {:.6g} s (linear spring-dashpot, smallest pair)",
+                            p.dt_safety, out.times.linear_spring)
+              : fmt::format("dt = {} * min(t_Rayleigh = {:.6g} s, t_Hertz = {:.6g} s at "
+                            "{:.4g} m/s)",
+                            p.dt_safety, out.times.rayleigh, out.times.hertz, reference_speed)),
       fmt::arg("gd", p.shear_rate), fmt::arg("total", out.total_steps),
       fmt::arg("sample", out.sample_every), fmt::arg("cp", p.constant_pressure ? 1 : 0),
       fmt::arg("p0", p.normal_stress), fmt::arg("gain", p.servo_gain),
       fmt::arg("servo_max", p.servo_max_strain), fmt::arg("servo", out.servo_every),
       fmt::arg("servo_move", out.servo_move_every), fmt::arg("bins", p.profile_bins),
       fmt::arg("rho", m.particle_density), fmt::arg("data", data_file_name), fmt::arg("skin", skin),
-      fmt::arg("E", m.youngs_modulus), fmt::arg("nu", m.poisson_ratio),
-      fmt::arg("e", m.restitution), fmt::arg("mu", m.particle_friction), fmt::arg("dt", out.dt),
+      fmt::arg("contact", contact_law_commands(m, out.mean_diameter)), fmt::arg("dt", out.dt),
       fmt::arg("thermo_comp", std::max(1L, p.compression_steps / 5)),
       fmt::arg("phi", p.solid_fraction), fmt::arg("l0", out.initial_box_length),
       fmt::arg("l1", out.box_length), fmt::arg("ncomp", p.compression_steps),

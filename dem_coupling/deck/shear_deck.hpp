@@ -17,6 +17,14 @@ namespace granflow::dem {
 
 enum class SizeDistribution { monodisperse, bidisperse, uniform };
 
+// Normal contact law (LIGGGHTS `pair_style gran model ...`, tangential history, Coulomb limit):
+//   hertz: Hertz-Mindlin from E and ν, damping from e (LIGGGHTS `hertz`);
+//   hooke: linear spring-dashpot with uniform stiffnesses k_n, k_t = ratio × k_n and the
+//          damping rate that gives restitution e to a pair of mean-diameter spheres
+//          (LIGGGHTS `hooke/stiffness`; Cundall & Strack 1979, Silbert et al. 2001 PRE 64 051302
+//          with k_t = 2/7 k_n, the setting of Chialvo, Sun & Sundaresan 2012).
+enum class ContactLaw { hertz, hooke };
+
 struct DemMaterial {
   double diameter = 1e-3;          // number-mean diameter d, m
   double particle_density = 2500;  // rho_p, kg/m^3
@@ -28,7 +36,14 @@ struct DemMaterial {
   double size_ratio = 1.22;     // bidisperse: d_large / d_small
   double large_fraction = 0.5;  // bidisperse: number fraction of large particles
   double polydispersity = 0.1;  // uniform: d in d (1 -+ polydispersity)
+  ContactLaw contact_law = ContactLaw::hertz;
+  double normal_stiffness = 0.0;                  // hooke: k_n, N/m
+  double tangential_stiffness_ratio = 2.0 / 7.0;  // hooke: k_t / k_n
 };
+
+// LIGGGHTS commands that define the contact law of `m` (material properties + pair_style +
+// pair_coeff) for one atom type; `mean_diameter` sets the hooke damping rate (see ContactLaw).
+std::string contact_law_commands(const DemMaterial& m, double mean_diameter);
 
 // Immersed shear (issue 5): `fix gf_fluid all fluid/le ...` after the shear fix
 // (docs/dem_fluid.md). Gaps are in units of the number-mean diameter d (material.diameter).
@@ -58,8 +73,8 @@ struct ShearDeckParams {
   double servo_strain = 0.1;        // shear strain between servo updates
   double shear_rate = 20.0;         // 1/s
   double total_strain = 20.0;
-  double sample_strain = 0.01;       // shear strain between samples
-  double dt_safety = 0.1;            // dt = dt_safety * min(t_Rayleigh, t_Hertz)
+  double sample_strain = 0.01;  // shear strain between samples
+  double dt_safety = 0.1;       // dt = dt_safety * min(t_Rayleigh, t_Hertz) (hooke: * t_c linear)
   double impact_speed_factor = 3.0;  // reference impact speed = factor * shear_rate * d_max
   int profile_bins = 10;
   long compression_steps = 10000;

@@ -190,6 +190,28 @@ TEST(DemDeck, ImpossibleCasesAreRefused) {
   EXPECT_EQ(check_shear_params(p)[0].first, "dem.particles");
   p.particles = 300;
   EXPECT_TRUE(check_shear_params(p).empty());
+  p.material.contact_law = granflow::dem::ContactLaw::hooke;  // without k_n
+  ASSERT_FALSE(check_shear_params(p).empty());
+  EXPECT_EQ(check_shear_params(p)[0].first, "material.normal_stiffness");
+  p.material.normal_stiffness = 1000.0;
+  EXPECT_TRUE(check_shear_params(p).empty());
+}
+
+TEST(DemDeck, LinearSpringDeckTakesItsTimeStepFromTheSpringContactTime) {
+  ShearDeckParams p;
+  p.particles = 300;
+  p.material.size = granflow::dem::SizeDistribution::monodisperse;
+  p.material.contact_law = granflow::dem::ContactLaw::hooke;
+  p.material.normal_stiffness = 1000.0;
+  p.dt_safety = 0.05;
+  const auto deck = make_shear_deck(p, "particles.data");
+  // m* = ρ π d³/12 = 6.545e-7 kg, e = 0.7: t_c = π sqrt(m*/k_n) sqrt(1 + ln²0.7/π²)
+  //    = π × 2.5583e-5 × 1.00643 = 8.0888e-5 s (5 digits by hand).
+  EXPECT_NEAR(deck.times.linear_spring, 8.0888e-5, 1e-4 * 8.0888e-5);
+  EXPECT_DOUBLE_EQ(deck.dt, 0.05 * deck.times.linear_spring);
+  EXPECT_NE(deck.deck.find("gran model hooke/stiffness"), std::string::npos);
+  EXPECT_NE(deck.deck.find("kt peratomtypepair 1 285.71428571428"), std::string::npos);
+  EXPECT_EQ(deck.deck.find("youngsModulus"), std::string::npos);
 }
 
 }  // namespace
