@@ -211,6 +211,7 @@ void write_dem_fits(const DemFits& f, const DemSteadyTable& t, Sink& sink) {
       sink.attribute(g, "published_mu_s_low", pub->mu_s_low);
       sink.attribute(g, "published_mu_s_high", pub->mu_s_high);
       sink.attribute(g, "published_phi_c", pub->phi_c);
+      sink.attribute(g, "published_phi_c_rounding", PublishedDemLaw::phi_c_rounding);
       sink.attribute(g, "published_source", std::string(pub->source));
     }
     sink.write(g + "/inertial_number", d.inertial, "1", "I of the points fitted");
@@ -367,8 +368,9 @@ inline std::string dem_fits_markdown(const DemFits& f, const DemSteadyTable& t) 
               : std::string("-"));
     }
     md +=
-        "\nAgainst the published DEM values: μ(0) outside the published range by (SE; 0 = "
-        "inside) and φ(0) − published value (SE):";
+        "\nAgainst the published DEM values: μ(0) outside the published range, and φ(0) "
+        "outside the published value's rounding interval ± 0.0005 (three digits quoted), in SE "
+        "(0 = inside):";
     for (const InertialLawFit& d : f.dry)
       md += fmt::format(" μ_p = {:g}: {} and {};", d.particle_friction,
                         num(d.mu_s_published_deviation(), "{:+.2f}"),

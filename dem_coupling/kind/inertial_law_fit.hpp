@@ -85,6 +85,9 @@ struct PublishedDemLaw {
   double mu_s_low, mu_s_high;  // published range of the quasi-static friction μ_s (μ_0)
   double phi_c;                // critical (jamming) solid fraction (φ_RCP)
   const char* source;
+  // Both φ_c are quoted to three digits without an error bar: any value in phi_c ± 0.0005
+  // rounds to the quoted one, so that interval is what the DEM is compared with (like μ_s).
+  static constexpr double phi_c_rounding = 0.0005;
 };
 
 // Published values for μ_p = 0.5 and μ_p = 0 (above); nothing for other μ_p.
@@ -172,9 +175,14 @@ struct InertialLawFit {
            : m > pub->mu_s_high ? (m - pub->mu_s_high) / mu_s_err()
                                 : 0.0;
   }
+  // Distance of φ_c outside the published value's rounding interval, in standard errors (0 inside).
   double phi_c_published_deviation() const {
     const auto pub = published_dem_law(particle_friction);
-    return pub ? (phi_c() - pub->phi_c) / phi_c_err() : NAN;
+    const double p = phi_c();
+    if (!pub || !std::isfinite(p)) return NAN;
+    const double low = pub->phi_c - PublishedDemLaw::phi_c_rounding;
+    const double high = pub->phi_c + PublishedDemLaw::phi_c_rounding;
+    return p < low ? (p - low) / phi_c_err() : p > high ? (p - high) / phi_c_err() : 0.0;
   }
 };
 

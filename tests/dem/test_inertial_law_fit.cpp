@@ -81,7 +81,22 @@ TEST(DemInertialLawFit, ExactDataGiveTheParametersBack) {
   const InertialLawFit g =
       fit_inertial_law(0.0, DryLaw::gdr_midi, sweep_inertial, mu, mue, phi, phie);
   EXPECT_NEAR(g.mu_s_published_deviation(), (0.36 - 0.10) / g.mu_s_err(), 1e-6 / g.mu_s_err());
-  EXPECT_LT(g.phi_c_published_deviation(), -10.0);  // 0.587 vs 0.639, SE ~1e-3
+  // 0.587 vs 0.639's rounding interval [0.6385, 0.6395]: (0.587 - 0.6385)/SE.
+  EXPECT_NEAR(g.phi_c_published_deviation(), (0.587 - 0.6385) / g.phi_c_err(), 1e-9);
+  EXPECT_LT(g.phi_c_published_deviation(), -10.0);  // SE ~1e-3
+  // The quoted 0.587 stands for [0.5865, 0.5875]: 0.5877 ± 0.0002 is 1 SE above it, 0.5874
+  // inside (zero), 0.5860 ± 0.0002 2.5 SE below.
+  for (const auto& [shift, deviation] :
+       std::vector<std::pair<double, double>>{{0.0007, 1.0}, {0.0004, 0.0}, {-0.0010, -2.5}}) {
+    std::vector<double> shifted(phi), narrow(phie.size(), 0.0);
+    for (double& v : shifted) v += shift;
+    // error bars that give SE(φ_c) = 0.0002 exactly: scale the 0.001 ones by 0.0002/SE
+    const double scale = 0.0002 / f.phi_c_err();
+    for (std::size_t k = 0; k < phie.size(); ++k) narrow[k] = phie[k] * scale;
+    const InertialLawFit h = fit_inertial_law(0.5, sweep_inertial, mu, mue, shifted, narrow);
+    EXPECT_NEAR(h.phi_c_err(), 0.0002, 1e-9);
+    EXPECT_NEAR(h.phi_c_published_deviation(), deviation, 1e-6) << "shift " << shift;
+  }
   EXPECT_EQ(friction_label(0.5), "mu_p_0p5");
   EXPECT_EQ(friction_label(0.0), "frictionless");
 }
