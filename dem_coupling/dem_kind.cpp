@@ -681,14 +681,7 @@ int run_shear(core::RunContext& ctx) {
     const DemFits fits = compute_dem_fits(table);
     write_dem_fits(fits, table, out);
     for (const auto& [key, value] : dem_fit_summary(fits, table)) ctx.summary.set(key, value);
-    for (const InertialLawFit& d : fits.dry)
-      ctx.log->info(
-          "μ_p = {:g}: μ(I) fit μ_s = {:.4f} ± {:.4f}, μ_2 = {:.4f} ± {:.4f}, I_0 = {:.4g} ± "
-          "{:.2g} (χ²_red {:.3g}); φ(I) fit φ_c = {:.4f} ± {:.4f}, a = {:.4g} ± {:.2g} (χ²_red "
-          "{:.3g}); {} points",
-          d.particle_friction, d.mu_s(), d.mu_s_err(), d.mu_2(), d.mu_2_err(), d.i_0(), d.i_0_err(),
-          d.mu.chi2_red, d.phi_c(), d.phi_c_err(), d.a(), d.a_err(), d.phi.chi2_red,
-          d.inertial.size());
+    for (const InertialLawFit& d : fits.dry) ctx.log->info("{}", dry_fit_log_line(d));
     if (any_wet) {
       const MixedNumberLawFit& m = fits.mixed;
       ctx.log->info(
