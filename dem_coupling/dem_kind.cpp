@@ -127,7 +127,9 @@ core::Schema shear_schema() {
               "relative height change per relative stress error; default: loop gain "
               "gain × d ln σ/d ln φ ≈ 0.25 at the target, i.e. dry 0.1 × I_target (I_target = "
               "γ̇ d / sqrt(σ_yy/ρ_p)) within [1e-4, 0.02], immersed 0.0625 √K/(1 + √K) (K = J + "
-              "α I² at the target, φ = φ_m/(1 + √K); loop gain 0.125) within [1e-4, 0.05]")
+              "α I² at the target, φ = φ_m/(1 + √K); loop gain 0.125) within [1e-4, 0.05]. The rule "
+              "knows I, not the contact stiffness: with contact_law hooke set ≈ σ_yy d/k_n and "
+              "servo_strain ≈ strain.sample (docs/dem_dataset.md, linear springs)")
       .greater_than(0);
   control.number("servo_max_strain", "", "largest relative height change per servo update")
       .default_value("0.002")
