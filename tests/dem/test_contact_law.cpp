@@ -38,24 +38,10 @@ struct Collision {
 // samples every step.
 Collision collide(const std::string& name, const DemMaterial& m, double v0, double dt, long steps) {
   const auto dir = fresh_directory(name);
-  std::ofstream(dir / "in.granflow") << fmt::format(
-      R"(variable gf_shear_rate equal 0
-variable gf_total_steps equal {steps}
-variable gf_sample_every equal 1
-variable gf_constant_pressure equal 0
-variable gf_normal_stress equal 0
-variable gf_servo_gain equal 0
-variable gf_servo_max_strain equal 0
-variable gf_servo_every equal 1
-variable gf_profile_bins equal 2
-variable gf_particle_density equal {rho}
-atom_style      granular
-atom_modify     map array
-boundary        p p p
-newton          off
-communicate     single vel yes
-units           si
-region          box block 0 0.012 0 0.012 0 0.012 units box
+  std::ofstream(dir / "in.granflow")
+      << granflow::dem::testing::driver_deck_header(steps, 1, density)
+      << fmt::format(
+             R"(region          box block 0 0.012 0 0.012 0 0.012 units box
 create_box      1 box
 neighbor        0.0002 bin
 neigh_modify    delay 0
@@ -72,9 +58,9 @@ compute         gf_virial all pressure thermo_temp virial
 thermo_style    custom step atoms ke c_gf_virial[1]
 thermo          0
 )",
-      fmt::arg("steps", steps), fmt::arg("rho", density), fmt::arg("d", diameter),
-      fmt::arg("contact", contact_law_commands(m, diameter)), fmt::arg("dt", dt),
-      fmt::arg("v0", v0));
+             fmt::arg("rho", density), fmt::arg("d", diameter),
+             fmt::arg("contact", contact_law_commands(m, diameter)), fmt::arg("dt", dt),
+             fmt::arg("v0", v0));
   const auto run = run_driver(dir);
   EXPECT_EQ(run.status, 0) << run.output;
   Collision c;

@@ -18,23 +18,8 @@ using granflow::dem::testing::run_driver;
 // boundary, i.e. 0.4 mm overlap. No shear (gf_shear_rate 0): the driver samples P^vir and
 // T = sum |v|^2 / (3 N) every 10 steps for 30 steps.
 std::string two_sphere_deck(const std::string& region) {
-  return fmt::format(R"(variable gf_shear_rate equal 0
-variable gf_total_steps equal 30
-variable gf_sample_every equal 10
-variable gf_constant_pressure equal 0
-variable gf_normal_stress equal 0
-variable gf_servo_gain equal 0
-variable gf_servo_max_strain equal 0
-variable gf_servo_every equal 10
-variable gf_profile_bins equal 2
-variable gf_particle_density equal 2500
-atom_style      granular
-atom_modify     map array
-boundary        p p p
-newton          off
-communicate     single vel yes
-units           si
-region          box {} units box
+  return granflow::dem::testing::driver_deck_header(30, 10, 2500) +
+         fmt::format(R"(region          box {} units box
 create_box      1 box
 neighbor        0.0002 bin
 neigh_modify    delay 0
