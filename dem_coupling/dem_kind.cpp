@@ -123,20 +123,22 @@ core::Schema shear_schema() {
       .greater_than(0)
       .sweepable();
   control
-      .number("servo_gain", "",
-              "relative height change per relative stress error; default: loop gain "
-              "gain × d ln σ/d ln φ ≈ 0.25 at the target, i.e. dry 0.1 × I_target (I_target = "
-              "γ̇ d / sqrt(σ_yy/ρ_p)) within [1e-4, 0.02], immersed 0.0625 √K/(1 + √K) (K = J + "
-              "α I² at the target, φ = φ_m/(1 + √K); loop gain 0.125) within [1e-4, 0.05]. The rule "
-              "knows I, not the contact stiffness: with contact_law hooke set ≈ σ_yy d/k_n and "
-              "servo_strain ≈ strain.sample (docs/dem_dataset.md, linear springs)")
+      .number(
+          "servo_gain", "",
+          "relative height change per relative stress error; default: loop gain "
+          "gain × d ln σ/d ln φ ≈ 0.25 at the target, i.e. dry 0.1 × I_target (I_target = "
+          "γ̇ d / sqrt(σ_yy/ρ_p)) within [1e-4, 0.02], immersed 0.0625 √K/(1 + √K) (K = J + "
+          "α I² at the target, φ = φ_m/(1 + √K); loop gain 0.125) within [1e-4, 0.05]; dry with "
+          "contact_law hooke at most 2 σ_yy d/k_n (the elastic limit)")
       .greater_than(0);
   control.number("servo_max_strain", "", "largest relative height change per servo update")
       .default_value("0.002")
       .greater_than(0)
       .at_most(0.05);
-  control.number("servo_strain", "", "shear strain between servo updates")
-      .default_value("0.1")
+  control
+      .number("servo_strain", "",
+              "shear strain between servo updates; default 0.1, or strain.sample with "
+              "contact_law hooke (its small elastic gain needs frequent updates to converge)")
       .greater_than(0);
   s.number("shear_rate", "1/s", "imposed shear rate γ̇").required().greater_than(0).sweepable();
   auto& strain = s.section("strain", "shear strain to run and sample");
@@ -181,7 +183,9 @@ ShearDeckParams read_shear_params(const core::Case& c) {
   if (c.has("control.normal_stress")) p.normal_stress = c.number("control.normal_stress");
   if (c.has("control.servo_gain")) p.servo_gain = c.number("control.servo_gain");
   p.servo_max_strain = c.number("control.servo_max_strain");
-  p.servo_strain = c.number("control.servo_strain");
+  p.servo_strain = c.has("control.servo_strain")        ? c.number("control.servo_strain")
+                   : m.contact_law == ContactLaw::hooke ? c.number("strain.sample")
+                                                        : 0.1;
   p.total_strain = c.number("strain.total");
   p.sample_strain = c.number("strain.sample");
   p.profile_bins = static_cast<int>(c.integer("output.profile_bins"));

@@ -141,7 +141,18 @@ double default_servo_gain(const ShearDeckParams& p) {
   const DemMaterial& m = p.material;
   const double inertial_number =
       p.shear_rate * m.diameter / std::sqrt(p.normal_stress / m.particle_density);
-  if (!p.wet.enabled) return std::clamp(0.1 * inertial_number, 1e-4, 0.02);
+  if (!p.wet.enabled) {
+    if (m.contact_law == ContactLaw::hooke && m.normal_stiffness > 0.0) {
+      // Linear springs answer a height change first elastically, d ln σ/d ln φ ≈ k_n/(σ_yy d)
+      // (affine compression of contacts carrying ~0.6 σ_yy d², force/k_n overlap): 1e4 at
+      // k_n/(σ_yy d) = 1e4, so 0.1 I would be a loop gain of ~20 at I = 0.02 (measured: σ_yy
+      // swinging 5-800 Pa, mean +10-13 %). 2 σ_yy d/k_n holds it (94-101 Pa with updates every
+      // 0.01 strain; docs/dem_dataset.md, linear springs).
+      const double elastic_gain = 2.0 * p.normal_stress * m.diameter / m.normal_stiffness;
+      return std::clamp(std::min(0.1 * inertial_number, elastic_gain), 1e-6, 0.02);
+    }
+    return std::clamp(0.1 * inertial_number, 1e-4, 0.02);
+  }
   const double viscous_number = p.wet.viscosity * p.shear_rate / p.normal_stress;
   const double root_mixed_number =
       std::sqrt(viscous_number + p.wet.trulsson_alpha * inertial_number * inertial_number);

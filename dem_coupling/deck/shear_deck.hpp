@@ -108,7 +108,9 @@ std::vector<std::pair<std::string, std::string>> check_shear_params(const ShearD
 // Default gain of the constant-normal-stress servo (NormalStressServo): gain × k = loop gain,
 // k = d ln σ_yy / d ln φ at the target state.
 // Dry (loop gain 0.25): φ_c - φ ≈ a I, k ≈ 2.4 / I, gain = 0.1 I_target within [1e-4, 0.02]
-// (I_target = γ̇ d / sqrt(σ_yy/ρ_p); 0.01 at I = 0.1 as in liggghts-study.md).
+// (I_target = γ̇ d / sqrt(σ_yy/ρ_p); 0.01 at I = 0.1 as in liggghts-study.md). Linear springs
+// (contact_law hooke): at most 2 σ_yy d / k_n, the elastic limit (k ≈ k_n/(σ_yy d)), within
+// [1e-6, 0.02]; such decks update the height every sample by default (read_shear_params).
 // Immersed: the steady state follows φ = φ_m / (1 + √K), K = J + α I² (Boyer, Guazzelli & Pouliquen
 // 2011, Phys. Rev. Lett. 107, 188301, φ(J) with J -> K; Trulsson et al. 2012, α = liquid.
 // trulsson_alpha). At fixed γ̇ and η0 both J = η0 γ̇/σ and I² = ρ_p d² γ̇²/σ are ∝ 1/σ, so

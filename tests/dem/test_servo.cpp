@@ -120,6 +120,18 @@ TEST(DemServo, DefaultGainIsTheDryRuleWithoutLiquid) {
   EXPECT_EQ(default_servo_gain(p), 0.02);
 }
 
+TEST(DemServo, LinearSpringGainIsLimitedByTheElasticResponse) {
+  // k_n = 1000 N/m, σ_yy = 100 Pa, d = 1 mm: elastic d ln σ/d ln φ ≈ k_n/(σ d) = 1e4, so the gain
+  // is 2 σ d/k_n = 2e-4 instead of the dry rule's 0.1 I = 0.005 (I = 0.05).
+  ShearDeckParams p = immersed({0.0, 100.0});
+  p.wet.enabled = false;
+  p.material.contact_law = granflow::dem::ContactLaw::hooke;
+  p.material.normal_stiffness = 1000.0;
+  EXPECT_NEAR(default_servo_gain(p), 2e-4, 1e-15);
+  p.material.normal_stiffness = 1.0;  // very soft springs: the dry rule is the smaller one
+  EXPECT_NEAR(default_servo_gain(p), 0.005, 1e-15);
+}
+
 TEST(DemServo, ImmersedGainFollowsTheMixedNumberAtTheTarget) {
   // η0 = 0.25 Pa s, p0 = 25 Pa: J = 0.1, I = 0.1, K = 0.1 + 0.6 × 0.01 = 0.106,
   // gain = 0.125 / (2 (1 + √K)/√K) = 0.0625 √K/(1 + √K).
