@@ -342,7 +342,9 @@ Case Case::parse(const std::string& yaml_text, const std::string& origin,
       const std::string at = item.first.Mark().line >= 0
                                  ? fmt::format("{}:{}", origin, item.first.Mark().line + 1)
                                  : "--set sweep." + key;
-      if (!field || field->type() != ValueType::number || !field->is_sweepable()) {
+      const bool numeric =
+          field && (field->type() == ValueType::number || field->type() == ValueType::integer);
+      if (!numeric || !field->is_sweepable()) {
         std::string sweepable;
         std::function<void(const Field&, const std::string&)> collect = [&](const Field& f,
                                                                             const std::string& p) {
@@ -362,7 +364,9 @@ Case Case::parse(const std::string& yaml_text, const std::string& origin,
       std::vector<double> values;
       for (std::size_t i = 0; i < item.second.size(); ++i) {
         double v = 0;
-        if (!parse_number(item.second[i], v) || !field->within_bounds(v))
+        // integer keys (e.g. dem.seed) take whole numbers only
+        if (!parse_number(item.second[i], v) ||
+            (field->type() == ValueType::integer && v != std::floor(v)) || !field->within_bounds(v))
           throw CaseError(fmt::format("{}:{}: sweep.{}[{}]: expected {}", origin,
                                       item.second[i].Mark().line + 1, key, i,
                                       field->expectation()));
@@ -473,7 +477,10 @@ std::vector<Case> Case::expand_sweep() const {
         if (!node[parts[i]].IsDefined()) node[parts[i]] = YAML::Node(YAML::NodeType::Map);
         node.reset(node[parts[i]]);
       }
-      node[parts.back()] = value;
+      if (value == std::floor(value) && std::abs(value) < 9.0e15)
+        node[parts.back()] = static_cast<long long>(value);  // integer keys read back as such
+      else
+        node[parts.back()] = value;
       c.condition_.emplace_back(sweep_keys_[k], value);
     }
     out.push_back(std::move(c));

@@ -93,9 +93,12 @@ core::Schema shear_schema() {
       .at_most(1);
   auto& dem = s.section("dem", "DEM run settings");
   dem.integer("particles", "number of spheres").default_value("1000").greater_than(0);
-  dem.integer("seed", "random seed of the initial packing and sizes")
+  dem.integer("seed",
+              "random seed of the initial packing and sizes (sweep it for the sample-to-sample "
+              "scatter the batch-means error bars leave out)")
       .default_value("1")
-      .at_least(0);
+      .at_least(0)
+      .sweepable();
   dem.integer("ranks", "MPI ranks (mpirun -np) for granflow-dem").default_value("1").at_least(1);
   dem.number("time_step_safety", "",
              "Δt = safety × min(Rayleigh time, Hertz contact time); hooke: safety × t_c of the "

@@ -27,7 +27,7 @@ Schema test_schema() {
   l.number("solid_fraction", "", "ν").greater_than(0).less_than(1);
   l.choice("control", {"constant_volume", "constant_pressure"}, "control")
       .default_value("constant_volume");
-  l.integer("steps", "steps").default_value("10").greater_than(0);
+  l.integer("steps", "steps").default_value("10").greater_than(0).sweepable();
   l.boolean("verbose", "flag").default_value("false");
   return s;
 }
@@ -177,13 +177,28 @@ TEST(Case, SweepExpandsAsCartesianProductFirstKeySlowest) {
 TEST(Case, SweepValuesAndKeysAreValidated) {
   const auto not_sweepable =
       error_of(std::string(good) + "sweep:\n  material.diameter: [1e-3, 2e-3]\n");
-  EXPECT_NE(not_sweepable.find("case.yaml:10: sweep.material.diameter: not a sweepable key; "
-                               "expected one of: loading.void_ratio, loading.shear_rate"),
-            std::string::npos)
+  EXPECT_NE(
+      not_sweepable.find("case.yaml:10: sweep.material.diameter: not a sweepable key; "
+                         "expected one of: loading.void_ratio, loading.shear_rate, loading.steps"),
+      std::string::npos)
       << not_sweepable;
   const auto bad_value = error_of(std::string(good) + "sweep:\n  loading.shear_rate: [1, -2]\n");
   EXPECT_NE(bad_value.find("sweep.loading.shear_rate[1]: expected number > 0"), std::string::npos)
       << bad_value;
+}
+
+TEST(Case, IntegerKeysSweepOverWholeNumbers) {
+  // e.g. dem.seed: one condition per integer value, read back as an integer.
+  const Schema schema = test_schema();
+  const Case c =
+      Case::parse(std::string(good) + "sweep:\n  loading.steps: [5, 7]\n", "case.yaml", {}, schema);
+  const auto conditions = c.expand_sweep();
+  ASSERT_EQ(conditions.size(), 2u);
+  EXPECT_EQ(conditions[0].integer("loading.steps"), 5);
+  EXPECT_EQ(conditions[1].integer("loading.steps"), 7);
+  const auto fractional = error_of(std::string(good) + "sweep:\n  loading.steps: [5, 7.5]\n");
+  EXPECT_NE(fractional.find("sweep.loading.steps[1]: expected integer > 0"), std::string::npos)
+      << fractional;
 }
 
 TEST(Case, CrossFieldFailureIsLocated) {
