@@ -310,6 +310,14 @@ Case Case::parse(const std::string& yaml_text, const std::string& origin,
     } catch (const YAML::Exception& e) {
       throw CaseError(fmt::format("--set {}: the value is not valid YAML: {}", item, e.what()));
     }
+    // sweep.<key.path>=[...]: the rest of the path is one sweep key (flat, as in the file)
+    if (path.rfind("sweep.", 0) == 0 && path.size() > 6) {
+      if (!raw["sweep"].IsDefined() || raw["sweep"].IsNull())
+        raw["sweep"] = YAML::Node(YAML::NodeType::Map);
+      raw["sweep"][path.substr(6)] = value;
+      override_locations.emplace_back(path, "--set " + item);
+      continue;
+    }
     const auto parts = split_path(path);
     std::vector<YAML::Node> chain{raw};
     for (std::size_t i = 0; i + 1 < parts.size(); ++i) {

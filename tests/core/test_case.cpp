@@ -201,6 +201,20 @@ TEST(Case, IntegerKeysSweepOverWholeNumbers) {
       << fractional;
 }
 
+TEST(Case, SetOverridesOrAddsADottedSweepKey) {
+  // --set sweep.loading.shear_rate=[4, 5] replaces the file's list for that key (not a nested
+  // sweep.loading map); a new key adds a dimension.
+  const Schema schema = test_schema();
+  const Case c =
+      Case::parse(std::string(good) + "sweep:\n  loading.shear_rate: [1, 2, 3]\n", "case.yaml",
+                  {"sweep.loading.shear_rate=[4, 5]", "sweep.loading.steps=[5, 7]"}, schema);
+  const auto conditions = c.expand_sweep();
+  ASSERT_EQ(conditions.size(), 4u);
+  EXPECT_DOUBLE_EQ(conditions[0].number("loading.shear_rate"), 4);
+  EXPECT_DOUBLE_EQ(conditions[3].number("loading.shear_rate"), 5);
+  EXPECT_EQ(conditions[3].integer("loading.steps"), 7);
+}
+
 TEST(Case, CrossFieldFailureIsLocated) {
   const Schema schema = test_schema();
   const Case c = Case::parse(good, "case.yaml", {}, schema);
