@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/dem/driver_deck.hpp"
+
 namespace granflow::dem::test {
 
 inline const std::string driver = GRANFLOW_BINARY_DIR "/dem_coupling/granflow-dem";
@@ -19,23 +21,8 @@ inline const std::string driver = GRANFLOW_BINARY_DIR "/dem_coupling/granflow-de
 // Parameters the driver reads after the deck (its shear stage is a single sampled step here:
 // the physics of each test runs inside the deck), the material, and the contact model.
 inline std::string deck_preamble(const std::string& region, double dt) {
-  return fmt::format(R"(variable gf_shear_rate equal 0
-variable gf_total_steps equal 1
-variable gf_sample_every equal 1
-variable gf_constant_pressure equal 0
-variable gf_normal_stress equal 0
-variable gf_servo_gain equal 0
-variable gf_servo_max_strain equal 0
-variable gf_servo_every equal 1
-variable gf_profile_bins equal 1
-variable gf_particle_density equal 2500
-atom_style      granular
-atom_modify     map array
-boundary        p p p
-newton          off
-communicate     single vel yes
-units           si
-{region}
+  return granflow::dem::testing::driver_deck_header(1, 1, 2500, 1) +
+         fmt::format(R"({region}
 neighbor        0.0002 bin
 neigh_modify    delay 0
 fix m1 all property/global youngsModulus peratomtype 1.e7
