@@ -21,8 +21,8 @@ enum class SizeDistribution { monodisperse, bidisperse, uniform };
 //   hertz: Hertz-Mindlin from E and ν, damping from e (LIGGGHTS `hertz`);
 //   hooke: linear spring-dashpot with uniform stiffnesses k_n, k_t = ratio × k_n and the
 //          damping rate that gives restitution e to a pair of mean-diameter spheres
-//          (LIGGGHTS `hooke/stiffness`; Cundall & Strack 1979, Silbert et al. 2001 PRE 64 051302
-//          with k_t = 2/7 k_n, the setting of Chialvo, Sun & Sundaresan 2012).
+//          (LIGGGHTS `hooke/stiffness`; Cundall & Strack 1979; k_t = 2/7 k_n as in Silbert et al.
+//          2001 PRE 64 051302, the common soft-sphere setting).
 enum class ContactLaw { hertz, hooke };
 
 struct DemMaterial {
