@@ -51,7 +51,7 @@ core::Schema shear_schema() {
   material
       .choice("contact_law", {"hertz", "hooke"},
               "normal contact: hertz (Hertz-Mindlin from E, ν) or hooke (linear spring-dashpot "
-              "k_n, k_t, as in Silbert et al. 2001 and Chialvo et al. 2012); tangential history "
+              "k_n, k_t, as in Silbert et al. 2001); tangential history "
               "spring with Coulomb limit and damping from e in both")
       .default_value("hertz");
   material.number("normal_stiffness", "N/m", "hooke: normal spring k_n (required for hooke)")
