@@ -50,6 +50,8 @@ core::Schema calibrate_schema() {
   s.add(continuum::material_section());
   s.add(continuum::collisional_section());
   s.add(continuum::liquid_section());
+  s.add(continuum::force_chains_section(true));
+  s.add(continuum::steady_section());
   auto& data = s.section("data", "DEM datasets (docs/dem_dataset.md) to calibrate against");
   data.string("files",
               "result.h5 paths separated by spaces or commas (relative: to the working directory, "
@@ -68,7 +70,10 @@ core::Schema calibrate_schema() {
   auto& fit = s.section("fit", "the least-squares problem");
   fit.string("parameters",
              "parameters to fit, separated by spaces: restitution, jamming_fraction, "
-             "correlation_length_constant, liquid_viscosity_factor, fluctuation_dissipation_factor")
+             "correlation_length_constant, liquid_viscosity_factor, "
+             "fluctuation_dissipation_factor; with force_chains on also critical_void_ratio, "
+             "critical_state_slope, critical_state_exponent, critical_stress_ratio, "
+             "contact_production")
       .required();
   fit.integer("max_evaluations", "largest number of residual evaluations of Levenberg-Marquardt")
       .default_value("4000")
@@ -104,6 +109,12 @@ void check_calibrate_case(const core::Case& c) {
     if ((name == "liquid_viscosity_factor" || name == "fluctuation_dissipation_factor") &&
         !c.boolean("liquid.enabled"))
       c.fail("fit.parameters", fmt::format("'{}' needs liquid.enabled: true", name));
+    const std::string& key = parameter_spec(name).case_key;
+    if (key.rfind("force_chains.", 0) == 0 && !c.boolean("force_chains.enabled"))
+      c.fail("fit.parameters",
+             fmt::format("'{}' is a force-chain parameter: needs force_chains.enabled: true", name));
+    if (name == "contact_production" && !c.boolean("force_chains.enabled"))
+      c.fail("fit.parameters", "contact_production needs force_chains.enabled: true");
     if (name == "fluctuation_dissipation_factor" && !c.boolean("liquid.fluctuation_dissipation"))
       c.fail("fit.parameters",
              "fluctuation_dissipation_factor needs liquid.fluctuation_dissipation: true");
@@ -129,6 +140,13 @@ int run_calibrate_case(core::RunContext& ctx) {
   start.settings = continuum::read_multi_regime_settings(c);
   start.reference_liquid_viscosity = start.settings.liquid_parameters.viscosity;
   start.factors.fluctuation_dissipation = c.number("fit.fluctuation_dissipation_factor");
+  start.factors.contact_production = c.number("steady.contact_production");
+  log.info("forward model: {}",
+           start.settings.force_chains
+               ? fmt::format("in-parallel steady state (force chains on the critical state, μ_FC "
+                             "= {:.4g} in simple shear; docs/model/steady_state.md)",
+                             critical_state_friction(start.settings.force_chain_parameters))
+               : std::string("kinetic theory alone (force_chains.enabled: false)"));
   const auto names = split_names(c.string("fit.parameters"));
   std::vector<Observable> observables;
   for (const auto& o : split_names(c.string("data.observables")))

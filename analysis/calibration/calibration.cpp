@@ -26,6 +26,17 @@ const std::vector<ParameterSpec>& parameter_specs() {
        "factor on η0 (σ_L, Λ and drag); written as liquid.viscosity = factor × η0"},
       {"fluctuation_dissipation_factor", "", 1e-6, 1e6,
        "factor f_Λ on Λ (no case key yet: applied at the calibration's call site)"},
+      // The critical state of the force chains (in-parallel steady model, force_chains on).
+      {"critical_void_ratio", "force_chains.e_Gamma", 0.2, 2.0,
+       "e_Γ of e_cs = e_Γ - λ_c (p/p_ref)^ξ_c (1/(1+e_Γ): φ of the critical state as p -> 0)"},
+      {"critical_state_slope", "force_chains.lambda_c", 1e-6, 1.0,
+       "λ_c of the critical state line"},
+      {"critical_state_exponent", "force_chains.xi_c", 0.02, 5.0,
+       "ξ_c of the critical state line"},
+      {"critical_stress_ratio", "force_chains.M_c", 0.05, 2.9,
+       "M_c, the Lade-Duncan ratio q/p in compression (simple shear: μ_FC = M(θ=0)/√3)"},
+      {"contact_production", "steady.contact_production", 0.0, 1.0,
+       "α_FC, fraction of τ_FC γ̇ fed to T (granflow's own term; start it above 0)"},
   };
   return specs;
 }
@@ -46,6 +57,12 @@ double parameter_value(const CalibratedModel& m, const std::string& name) {
   if (name == "liquid_viscosity_factor")
     return m.settings.liquid_parameters.viscosity / m.reference_liquid_viscosity;
   if (name == "fluctuation_dissipation_factor") return m.factors.fluctuation_dissipation;
+  const auto& fc = m.settings.force_chain_parameters;
+  if (name == "critical_void_ratio") return fc.e_Gamma;
+  if (name == "critical_state_slope") return fc.lambda_c;
+  if (name == "critical_state_exponent") return fc.xi_c;
+  if (name == "critical_stress_ratio") return fc.M_c;
+  if (name == "contact_production") return m.factors.contact_production;
   return parameter_spec(name).lower;  // throws for unknown names
 }
 
@@ -61,6 +78,16 @@ void set_parameter(CalibratedModel& m, const std::string& name, double value) {
     m.settings.liquid_parameters.viscosity = value * m.reference_liquid_viscosity;
   else if (name == "fluctuation_dissipation_factor")
     m.factors.fluctuation_dissipation = value;
+  else if (name == "critical_void_ratio")
+    m.settings.force_chain_parameters.e_Gamma = value;
+  else if (name == "critical_state_slope")
+    m.settings.force_chain_parameters.lambda_c = value;
+  else if (name == "critical_state_exponent")
+    m.settings.force_chain_parameters.xi_c = value;
+  else if (name == "critical_stress_ratio")
+    m.settings.force_chain_parameters.M_c = value;
+  else if (name == "contact_production")
+    m.factors.contact_production = value;
   else
     parameter_spec(name);  // throws
 }

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "continuum/model/correlation_length_jenkins.hpp"
+#include "continuum/model/force_chains/critical_state_lade_duncan.hpp"
 
 namespace granflow::calibration {
 
@@ -33,11 +34,54 @@ double solve_sqrt_temperature(double d, double f2, double f3, double lambda, dou
   return s;
 }
 
+// s solving d f2 γ̇² + W/s = f3 s³/(d max(s, a)) + λ s with W > 0: h(s) = right - left rises
+// strictly with s (each term of the right side rises, -W/s rises), h(0+) = -∞. Bracket from the
+// root without contact work (where h = -W/s < 0), then Newton kept inside the bracket.
+double solve_sqrt_temperature_with_work(double d, double f2, double f3, double lambda,
+                                        double speed, double shear_rate, double work) {
+  const double production = d * f2 * shear_rate * shear_rate;
+  const auto h = [&](double s, double& slope) {
+    const double L_term = s >= speed ? f3 * s * s / d : f3 * s * s * s / (d * speed);
+    const double L_slope = s >= speed ? 2.0 * f3 * s / d : 3.0 * f3 * s * s / (d * speed);
+    slope = L_slope + lambda + work / (s * s);
+    return L_term + lambda * s - production - work / s;
+  };
+  double lo = solve_sqrt_temperature(d, f2, f3, lambda, speed, shear_rate);
+  if (!(lo > 0)) lo = 1e-300;
+  double hi = std::max(2.0 * lo, 1e-300), slope = 0;
+  for (int i = 0; i < 2000 && h(hi, slope) < 0; ++i) hi *= 2.0;
+  double s = hi;
+  for (int i = 0; i < 200; ++i) {
+    const double value = h(s, slope);
+    if (value == 0.0) return s;
+    (value < 0 ? lo : hi) = s;
+    double next = s - value / slope;
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (std::abs(next - s) <= 4e-16 * s || hi - lo <= 4e-16 * hi) return next;
+    s = next;
+  }
+  return s;
+}
+
 }  // namespace
+
+double critical_state_pressure(const model::force_chains::ForceChainParameters& p,
+                               double solid_fraction) {
+  const double e = 1.0 / solid_fraction - 1.0;
+  if (!(e < p.e_Gamma)) return 0.0;
+  // e_cs = e_Γ - λ_c (p/p_ref)^ξ_c inverted (critical_state_lade_duncan.hpp)
+  return p.atmospheric_pressure * std::pow((p.e_Gamma - e) / p.lambda_c, 1.0 / p.xi_c);
+}
+
+double critical_state_friction(const model::force_chains::ForceChainParameters& p) {
+  // Plane strain, isochoric plastic flow coaxial with D: σ_zz = p, J3 = 0 (cos 3θ = 0), so
+  // τ/σ_yy = q/(√3 p) = M(θ = 0)/√3 on the Lade-Duncan locus.
+  return model::force_chains::CriticalStateLadeDuncan(p).stress_ratio(0.0) / std::sqrt(3.0);
+}
 
 double steady_sqrt_temperature_at(const continuum::MultiRegimeSettings& settings,
                                   const ModelFactors& factors, double solid_fraction,
-                                  double shear_rate) {
+                                  double shear_rate, double contact_work) {
   const auto& p = settings.collisional_parameters;
   const auto c = model::collisional_coefficients(p, solid_fraction);
   double lambda = 0.0;
@@ -50,25 +94,43 @@ double steady_sqrt_temperature_at(const continuum::MultiRegimeSettings& settings
                            ? model::jenkins_correlation_speed(p.correlation_length_constant, c.J,
                                                               c.epsilon, p.diameter, shear_rate)
                            : 0.0;
+  if (contact_work > 0)
+    return solve_sqrt_temperature_with_work(p.diameter, c.f2, c.f3, lambda, speed, shear_rate,
+                                            contact_work);
   return solve_sqrt_temperature(p.diameter, c.f2, c.f3, lambda, speed, shear_rate);
 }
 
 SteadyShearState steady_simple_shear(const continuum::MultiRegimeSettings& settings,
                                      const ModelFactors& factors, double shear_rate,
                                      double normal_stress) {
-  if (!settings.collisional || settings.force_chains)
+  if (!settings.collisional)
     throw std::invalid_argument(
-        "calibration forward model: needs collisional.enabled and force_chains off (steady "
-        "simple shear at imposed normal stress, as rev simple_shear constant_pressure)");
+        "steady simple shear: needs collisional.enabled (the collisions carry T and, without "
+        "force chains, the whole normal stress)");
+  const bool chains = settings.force_chains;
+  const auto& fc = settings.force_chain_parameters;
+  if (chains && !(fc.lambda_c > 0))
+    throw std::invalid_argument(
+        "steady in-parallel simple shear: needs force_chains.lambda_c > 0 (a critical state line "
+        "with a slope, so that p_FC(e) is a function)");
   const auto& p = settings.collisional_parameters;
   const double rho_p = p.particle_density, d = p.diameter;
   const double nu_max = model::maximum_solid_fraction(p);
+  const double mu_fc = chains ? critical_state_friction(fc) : 0.0;
+  const double production_per_pressure =
+      chains ? factors.contact_production * mu_fc * shear_rate / rho_p : 0.0;
+  const auto skeleton = [&](double nu) { return chains ? critical_state_pressure(fc, nu) : 0.0; };
+  const auto sqrt_T = [&](double nu, double p_fc) {
+    return steady_sqrt_temperature_at(settings, factors, nu, shear_rate,
+                                      production_per_pressure * p_fc);
+  };
   const auto pressure = [&](double nu) {
-    const double s = steady_sqrt_temperature_at(settings, factors, nu, shear_rate);
-    return rho_p * model::collisional_coefficients(p, nu).f1 * s * s;
+    const double p_fc = skeleton(nu);
+    const double s = sqrt_T(nu, p_fc);
+    return p_fc + rho_p * model::collisional_coefficients(p, nu).f1 * s * s;
   };
   SteadyShearState out;
-  // Dense branch: from the minimum of p_COL(ν) (coarse scan) up to ν_max, where p_COL -> ∞.
+  // Dense branch: from the minimum of p(ν) (coarse scan) up to ν_max, where p_COL -> ∞.
   constexpr int scan = 100;
   double nu_lo = nu_max / scan, p_lo = pressure(nu_lo);
   for (int i = 2; i < scan; ++i) {
@@ -94,25 +156,33 @@ SteadyShearState steady_simple_shear(const continuum::MultiRegimeSettings& setti
     (pressure(mid) < normal_stress ? nu_lo : nu_hi) = mid;
   }
   const double nu = 0.5 * (nu_lo + nu_hi);
-  const double s = steady_sqrt_temperature_at(settings, factors, nu, shear_rate);
+  const double p_fc = skeleton(nu);
+  const double s = sqrt_T(nu, p_fc);
   const auto c = model::collisional_coefficients(p, nu);
   const double p_col = rho_p * c.f1 * s * s;
-  double tau = rho_p * d * c.f2 * s * shear_rate;  // τ_COL = η_COL γ̇
+  const double p_total = p_fc + p_col;
+  out.force_chain_pressure = p_fc;
+  out.collisional_pressure = p_col;
+  out.force_chain_shear_stress = mu_fc * p_fc;
+  out.collisional_shear_stress = rho_p * d * c.f2 * s * shear_rate;  // τ_COL = η_COL γ̇
   if (settings.liquid) {
     if (nu >= model::maximum_mixture_solid_fraction(settings.liquid_parameters)) {
       out.why = "steady solid fraction above the maximum packing of η(ν)";
       return out;
     }
-    tau += model::mixture_viscosity(settings.liquid_parameters, nu) * shear_rate;  // τ_L
-    out.viscous_number = settings.liquid_parameters.viscosity * shear_rate / p_col;
+    out.liquid_shear_stress =
+        model::mixture_viscosity(settings.liquid_parameters, nu) * shear_rate;  // τ_L
+    out.viscous_number = settings.liquid_parameters.viscosity * shear_rate / p_total;
   }
-  out.ok = std::isfinite(tau) && std::isfinite(s);
+  const double tau =
+      out.force_chain_shear_stress + out.collisional_shear_stress + out.liquid_shear_stress;
+  out.ok = std::isfinite(tau) && std::isfinite(s) && p_total > 0;
   out.solid_fraction = nu;
   out.granular_temperature = s * s;
   out.scaled_temperature = s * s / (d * d * shear_rate * shear_rate);
   out.shear_stress = tau;
-  out.friction = tau / p_col;
-  out.inertial_number = shear_rate * d / std::sqrt(p_col / rho_p);
+  out.friction = tau / p_total;
+  out.inertial_number = shear_rate * d / std::sqrt(p_total / rho_p);
   if (!out.ok) out.why = "non-finite steady state";
   return out;
 }

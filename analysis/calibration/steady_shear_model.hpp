@@ -1,7 +1,11 @@
-// Forward model of the calibration: the steady state of the continuum REV simple shear
-// (rev/simple_shear.hpp) at an imposed shear rate γ̇ and an imposed normal stress p on the grains
-// (constant_pressure, no force chains), solved algebraically instead of by time stepping.
+// Forward model of the calibration and of the pairs: the steady state of the continuum REV simple
+// shear (rev/simple_shear.hpp) at an imposed shear rate γ̇ and an imposed normal stress p on the
+// grains (constant_pressure), solved algebraically instead of by time stepping. Two models:
+//  - kinetic theory alone (force chains off): p = p_COL, described first below;
+//  - the in-parallel steady state (force chains on, docs/model/steady_state.md): the force chains
+//    sit on their critical state and share p with the collisions, p = p_FC(ν) + p_COL(ν, T).
 //
+// Kinetic theory alone.
 // At steady homogeneous simple shear the energy balance of model.md §5 (seed Eq. 21) reduces to
 // production = dissipation, with s = T^½ (granular_temperature_update.hpp, divided by ρ_p s):
 //
@@ -15,11 +19,23 @@
 // μ = (ρ_p d f2 s γ̇ + η(ν) γ̇) / p with the liquid term only when the liquid is on.
 // Dry with L = d this is the closed form of model.md §3: T = (f2/f3) d² γ̇², μ = sqrt(f2 f3)/f1.
 //
+// In parallel (seed §3.1: at steady state the force chains are on their critical state). The
+// skeleton carries p_FC(ν) (critical_state_pressure below), the collisions p_COL(ν, s(ν)), and
+//     p_FC(ν) + ρ_p f1(ν) s(ν)² = p                                   (shared normal stress)
+// is solved for ν by bisection on the dense branch as above. The energy balance keeps the seed's
+// form (only σ_COL : D produces T; the force chains dissipate their own work, seed Eq. 21-22),
+// optionally with a production by the contacts α_FC τ_FC γ̇ (granflow's own, off by default):
+//     d f2 γ̇² + W/s = f3 s³ / (d max(s, a)) + λ s,   W = α_FC μ_FC p_FC γ̇ / ρ_p,
+// whose left side falls and right side rises with s: one root, by safeguarded Newton.
+// μ = (μ_FC p_FC + ρ_p d f2 s γ̇ + η(ν) γ̇) / p. As γ̇ -> 0, T -> 0 and the state tends to the
+// critical state of the skeleton: e = e_cs(p), μ = μ_FC.
+//
 // Why not rev::run_simple_shear inside the fit: it time-steps to a relative change of 1e-10 per
 // unit strain, thousands of steps per point and per Jacobian column; its steady state satisfies
 // the same two equations, and tests/calibration checks the two agree to 1e-6.
 #pragma once
 
+#include "continuum/model/force_chains/force_chain_parameters.hpp"
 #include "continuum/multi_regime/multi_regime_point.hpp"
 
 namespace granflow::calibration {
@@ -28,6 +44,10 @@ namespace granflow::calibration {
 // call site; 1 = the model as written).
 struct ModelFactors {
   double fluctuation_dissipation = 1.0;  // f_Λ, multiplies Λ (liquid.fluctuation_dissipation on)
+  // α_FC: fraction of the force chains' shear work τ_FC γ̇ fed to the granular temperature
+  // (steady.contact_production; granflow's own, 0 = the seed's model, where only σ_COL : D
+  // produces T).
+  double contact_production = 0.0;
 };
 
 struct SteadyShearState {
@@ -36,21 +56,36 @@ struct SteadyShearState {
   double solid_fraction = 0;        // ν
   double granular_temperature = 0;  // T, m²/s²
   double scaled_temperature = 0;    // T / (d γ̇)²
-  double shear_stress = 0;          // τ = τ_COL + τ_L, Pa
+  double shear_stress = 0;          // τ = τ_FC + τ_COL + τ_L, Pa
+  double force_chain_pressure = 0;       // p_FC = σ_yy,FC on the critical state, Pa
+  double collisional_pressure = 0;       // p_COL = ρ_p f1 T, Pa
+  double force_chain_shear_stress = 0;   // τ_FC = μ_FC p_FC, Pa
+  double collisional_shear_stress = 0;   // τ_COL = ρ_p d f2 T^½ γ̇, Pa
+  double liquid_shear_stress = 0;        // τ_L = η(ν) γ̇, Pa
   double friction = 0;              // μ = τ / p
   double inertial_number = 0;       // I = γ̇ d / sqrt(p/ρ_p)
   double viscous_number = 0;        // J = η0 γ̇ / p (0 when dry)
 };
 
-// Steady state at (γ̇, p). Requires settings.collisional and no force chains (throws
-// std::invalid_argument otherwise).
+// Steady state at (γ̇, p). Requires settings.collisional (throws std::invalid_argument
+// otherwise); with settings.force_chains the in-parallel state (needs λ_c > 0).
 SteadyShearState steady_simple_shear(const continuum::MultiRegimeSettings& settings,
                                      const ModelFactors& factors, double shear_rate,
                                      double normal_stress);
 
-// s = T^½ solving the energy balance above at ν (exposed for tests).
+// s = T^½ solving the energy balance above at ν (exposed for tests), with an extra production
+// by the contacts W = α_FC τ_FC γ̇ / ρ_p (m³/s³ per unit density; 0 without it).
 double steady_sqrt_temperature_at(const continuum::MultiRegimeSettings& settings,
                                   const ModelFactors& factors, double solid_fraction,
-                                  double shear_rate);
+                                  double shear_rate, double contact_work = 0.0);
+
+// The force chains on their critical state in steady simple shear (docs/model/steady_state.md):
+// the skeleton's normal stress p_FC(ν) = p_ref ((e_Γ - e)/λ_c)^(1/ξ_c) for e = 1/ν - 1 < e_Γ, 0
+// otherwise (the inverse of the critical state line e_cs = e_Γ - λ_c (p/p_ref)^ξ_c), and its
+// friction μ_FC = τ_FC/σ_yy,FC = M(θ = 0)/√3 (the Lade-Duncan ratio at the plane-strain,
+// isochoric stress state of steady simple shear, J3 = 0).
+double critical_state_pressure(const model::force_chains::ForceChainParameters& p,
+                               double solid_fraction);
+double critical_state_friction(const model::force_chains::ForceChainParameters& p);
 
 }  // namespace granflow::calibration

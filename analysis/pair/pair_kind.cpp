@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
+#include <sstream>
 
 #include "analysis/calibration/calibration.hpp"
 #include "continuum/multi_regime/model_sections.hpp"
@@ -21,11 +23,64 @@ namespace {
 // `schema` must outlive the returned Case (it refers to it).
 core::Case dem_case(const core::Case& c, const core::Schema& schema) {
   YAML::Node root = YAML::Load(c.resolved_yaml());
-  root.remove("collisional");  // the DEM schema carries the continuum's liquid section itself
+  // Continuum-only sections (the DEM schema carries the continuum's liquid section itself).
+  for (const char* section : {"collisional", "force_chains", "steady", "calibrate"})
+    root.remove(section);
   root["kind"] = "dem";
   YAML::Emitter out;
   out << root;
   return core::Case::parse(out.c_str(), c.origin() + " (DEM part)", {}, schema);
+}
+
+// "a b c" -> {"a", "b", "c"}
+std::vector<std::string> split_words(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string w; in >> w;) out.push_back(w);
+  return out;
+}
+
+// Smooth model curves over the DEM's range of γ̇ (a factor 2 beyond each end, 80 rates, log
+// spaced) at the mean measured σ_yy and the first point's μ_p and η0: /pair/curve/*.
+void write_model_curves(core::RunContext& ctx, const std::vector<calibration::DataPoint>& points,
+                        const calibration::CalibratedModel& model,
+                        const calibration::CalibratedModel& kinetic,
+                        const calibration::CalibratedModel* calibrated) {
+  if (points.empty()) return;
+  double lo = INFINITY, hi = 0, sigma = 0;
+  for (const auto& p : points)
+    lo = std::min(lo, p.shear_rate), hi = std::max(hi, p.shear_rate), sigma += p.normal_stress;
+  sigma /= static_cast<double>(points.size());
+  lo *= 0.5, hi *= 2.0;
+  constexpr int count = 80;
+  std::map<std::string, std::vector<double>> curve;
+  for (int i = 0; i < count; ++i) {
+    calibration::DataPoint at = points.front();
+    at.shear_rate = lo * std::pow(hi / lo, double(i) / (count - 1));
+    at.normal_stress = sigma;
+    curve["shear_rate"].push_back(at.shear_rate);
+    const double eta0 = std::isfinite(at.liquid_viscosity) ? at.liquid_viscosity : 0.0;
+    curve["J"].push_back(eta0 * at.shear_rate / sigma);
+    const double rho_p = model.settings.collisional_parameters.particle_density;
+    curve["I"].push_back(at.shear_rate * model.settings.collisional_parameters.diameter /
+                         std::sqrt(sigma / rho_p));
+    const auto add = [&](const std::string& tag, const calibration::CalibratedModel& m) {
+      const auto s = calibration::predict(m, at);
+      curve["mu_" + tag].push_back(s.ok ? s.friction : NAN);
+      curve["phi_" + tag].push_back(s.ok ? s.solid_fraction : NAN);
+      curve["T_" + tag].push_back(s.ok ? s.granular_temperature : NAN);
+      curve["share_tau_fc_" + tag].push_back(s.ok ? s.force_chain_shear_stress / s.shear_stress
+                                                  : NAN);
+    };
+    add("model", model);
+    add("kt", kinetic);
+    if (calibrated) add("cal", *calibrated);
+  }
+  for (const auto& [name, values] : curve)
+    ctx.result.write("/pair/curve/" + name, values,
+                     name.rfind("T_", 0) == 0 ? "m^2/s^2" : (name == "shear_rate" ? "1/s" : "1"),
+                     name + " along a smooth γ̇ sweep at the mean DEM σ_yy (_model: the case's "
+                            "continuum model, _kt: kinetic theory alone, _cal: calibrated)");
 }
 
 }  // namespace
@@ -59,7 +114,19 @@ core::Schema pair_schema() {
   for (const auto& child : dem.children())
     if (!header.count(child.key())) s.add(child);
   s.add(continuum::collisional_section());
+  s.add(continuum::force_chains_section(true));
+  s.add(continuum::steady_section());
   // `liquid` comes with the DEM schema: the continuum's own section with a sweepable viscosity.
+  auto& cal = s.section("calibrate",
+                        "optional: calibrate the continuum on the DEM points just run (every "
+                        "other point held out) and show it beside the uncalibrated one");
+  cal.string("parameters",
+             "parameters to fit (names of kind: calibrate's fit.parameters, separated by "
+             "spaces); none: no calibration")
+      .default_value("none");
+  cal.string("observables",
+             "observables fitted: friction, solid_fraction, scaled_temperature")
+      .default_value("friction solid_fraction scaled_temperature");
   return s;
 }
 
@@ -69,6 +136,23 @@ void check_pair_case(const core::Case& c) {
   if (c.string("control.mode") != "constant_pressure")
     c.fail("control.mode",
            "constant_pressure (the continuum is driven at each DEM condition's measured σ_yy)");
+  for (const auto& name : split_words(c.string("calibrate.parameters"))) {
+    if (name == "none") continue;
+    try {
+      const auto& spec = calibration::parameter_spec(name);
+      if (spec.case_key.rfind("force_chains.", 0) == 0 && !c.boolean("force_chains.enabled"))
+        c.fail("calibrate.parameters",
+               fmt::format("'{}' is a force-chain parameter: needs force_chains.enabled: true",
+                           name));
+    } catch (const std::invalid_argument& e) {
+      c.fail("calibrate.parameters", e.what());
+    }
+  }
+  for (const auto& o : split_words(c.string("calibrate.observables"))) try {
+      calibration::parse_observable(o);
+    } catch (const std::invalid_argument& e) {
+      c.fail("calibrate.observables", e.what());
+    }
   core::KindRegistry registry;
   dem::register_dem_kinds(registry);
   const auto& entry = registry.find("dem", "", c.origin());
@@ -102,11 +186,63 @@ int run_pair_case(core::RunContext& ctx) {
   const auto data = calibration::read_dem_dataset(dem_dir / "result.h5", 0);
   for (const auto& why : data.skipped) log.warn("DEM {}", why);
 
-  // ---- continuum side: steady REV simple shear at each DEM condition (γ̇, measured σ_yy, μ_p)
+  // ---- continuum side: the steady simple shear at each DEM condition (γ̇, measured σ_yy, μ_p)
   calibration::CalibratedModel model;
   model.settings = continuum::read_multi_regime_settings(c);
+  model.factors.contact_production = c.number("steady.contact_production");
   // Wet rows carry their own η0; the case's viscosity is the reference (factor 1).
   model.reference_liquid_viscosity = model.settings.liquid_parameters.viscosity;
+  // The comparison model: kinetic theory alone (the same sections, force chains off).
+  calibration::CalibratedModel kinetic = model;
+  kinetic.settings.force_chains = false;
+  const bool in_parallel = model.settings.force_chains;
+  log.info("continuum: {}",
+           in_parallel ? fmt::format("in-parallel steady state (force chains on the critical "
+                                     "state, μ_FC = {:.4g}; docs/model/steady_state.md), beside "
+                                     "kinetic theory alone",
+                                     calibration::critical_state_friction(
+                                         model.settings.force_chain_parameters))
+                       : std::string("kinetic theory alone (force_chains.enabled: false)"));
+
+  // ---- optional calibration on the DEM points just run (every other point held out)
+  std::vector<std::string> fit_names;
+  for (const auto& name : split_words(c.string("calibrate.parameters")))
+    if (name != "none") fit_names.push_back(name);
+  calibration::CalibratedModel calibrated = model;
+  const bool calibrate = !fit_names.empty();
+  auto& sum = ctx.summary;
+  if (calibrate) {
+    std::vector<calibration::Observable> observables;
+    for (const auto& o : split_words(c.string("calibrate.observables")))
+      observables.push_back(calibration::parse_observable(o));
+    std::vector<calibration::DataPoint> training, held;
+    for (std::size_t i = 0; i < data.points.size(); ++i)
+      (i % 2 ? held : training).push_back(data.points[i]);
+    try {
+      const auto r = calibration::fit(model, fit_names, training, observables);
+      calibrated = calibration::apply(model, fit_names, r.estimate);
+      log.info("calibrated on {} of {} points (every other held out): χ²_red {:.4g}",
+               training.size(), data.points.size(), r.chi2_red);
+      for (std::size_t j = 0; j < fit_names.size(); ++j) {
+        log.info("  {} = {:.6g} ± {:.3g} (start {:.6g}){}", fit_names[j], r.estimate[j],
+                 r.standard_error[j], r.initial[j],
+                 j < r.at_bound.size() && r.at_bound[j] ? " (on its bound)" : "");
+        sum.set("pair.fit." + fit_names[j], r.estimate[j]);
+        sum.set("pair.fit." + fit_names[j] + "_err", r.standard_error[j]);
+      }
+      sum.set("pair.fit.chi2_red", r.chi2_red);
+      sum.set("pair.fit.inside_domain", r.inside_domain ? 1 : 0);
+      for (const auto o : observables) {
+        const auto& on = calibration::observable_names()[static_cast<int>(o)];
+        sum.set("pair.holdout.rel_err." + on, calibration::mean_relative_error(calibrated, held, o));
+        sum.set("pair.holdout.rel_err_uncalibrated." + on,
+                calibration::mean_relative_error(model, held, o));
+      }
+    } catch (const std::invalid_argument& e) {
+      c.fail("calibrate.parameters", e.what());
+    }
+  }
+
   const double d_mean = c.number("material.diameter"),
                rho_p = c.number("material.particle_density");
   const double alpha = c.number("liquid.trulsson_alpha");
@@ -134,17 +270,20 @@ int run_pair_case(core::RunContext& ctx) {
     rel_T,
     regime
   };
-  auto& sum = ctx.summary;
   std::vector<std::vector<double>> rev_cols(3), viscous_cols(3);  // J_dem, J_cont, St
+  // Kinetic theory alone, the calibrated model, the share of each term (in-parallel model).
+  std::map<std::string, std::vector<double>> extra;
   double max_rev_diff = 0;
   int n = 0;
   for (const auto& p : data.points) {
     const auto s = calibration::predict(model, p);
+    const auto s_kt = calibration::predict(kinetic, p);
     // Second path: the time-stepped REV (rev::run_simple_shear, constant_pressure) at the same
-    // condition; tests/calibration shows the two agree to 1e-7, here it is recorded per point.
+    // condition for kinetic theory alone; tests/calibration shows the two agree to 1e-7, here it
+    // is recorded per point.
     double mu_rev = NAN, T_rev = NAN, phi_rev = NAN;
     try {
-      continuum::MultiRegimeSettings rs = model.settings;
+      continuum::MultiRegimeSettings rs = kinetic.settings;
       if (std::isfinite(p.particle_friction))
         rs.collisional_parameters.particle_friction = p.particle_friction;
       if (rs.liquid && std::isfinite(p.liquid_viscosity))
@@ -163,10 +302,10 @@ int run_pair_case(core::RunContext& ctx) {
     rev_cols[0].push_back(mu_rev);
     rev_cols[1].push_back(phi_rev);
     rev_cols[2].push_back(T_rev);
-    if (s.ok && std::isfinite(mu_rev))
-      max_rev_diff = std::max({max_rev_diff, std::abs(mu_rev / s.friction - 1),
-                               std::abs(phi_rev / s.solid_fraction - 1),
-                               std::abs(T_rev / s.granular_temperature - 1)});
+    if (s_kt.ok && std::isfinite(mu_rev))
+      max_rev_diff = std::max({max_rev_diff, std::abs(mu_rev / s_kt.friction - 1),
+                               std::abs(phi_rev / s_kt.solid_fraction - 1),
+                               std::abs(T_rev / s_kt.granular_temperature - 1)});
     const double scale = std::pow(d_mean * p.shear_rate, 2);  // T = T* (d γ̇)²
     const double T_d = p.value[2] * scale, T_c = s.ok ? s.granular_temperature : NAN;
     const double phi = p.value[1];
@@ -201,9 +340,32 @@ int run_pair_case(core::RunContext& ctx) {
                             T_c / T_d - 1.0,
                             double(flow_regime(I_d, J_d))};
     for (int k = 0; k < 21; ++k) cols[k].push_back(row[k]);
+    const auto ok = [](const calibration::SteadyShearState& st, double v) {
+      return st.ok ? v : NAN;
+    };
+    const double tau = s.shear_stress, p_total = s.force_chain_pressure + s.collisional_pressure;
+    const std::map<std::string, double> more = {
+        {"mu_kt", ok(s_kt, s_kt.friction)},
+        {"phi_kt", ok(s_kt, s_kt.solid_fraction)},
+        {"T_kt", ok(s_kt, s_kt.granular_temperature)},
+        {"share_tau_fc", ok(s, s.force_chain_shear_stress / tau)},
+        {"share_tau_col", ok(s, s.collisional_shear_stress / tau)},
+        {"share_tau_liq", ok(s, s.liquid_shear_stress / tau)},
+        {"share_p_fc", ok(s, s.force_chain_pressure / p_total)}};
+    for (const auto& [name, value] : more) extra[name].push_back(value);
     const std::string key = fmt::format("pair.{}.", n);
+    if (calibrate) {
+      const auto s_cal = calibration::predict(calibrated, p);
+      extra["mu_cal"].push_back(ok(s_cal, s_cal.friction));
+      extra["phi_cal"].push_back(ok(s_cal, s_cal.solid_fraction));
+      extra["T_cal"].push_back(ok(s_cal, s_cal.granular_temperature));
+      extra["held_out"].push_back(n % 2 ? 1.0 : 0.0);
+      sum.set(key + "mu_cal", ok(s_cal, s_cal.friction));
+      sum.set(key + "rel_err_mu_cal", ok(s_cal, s_cal.friction / p.value[0] - 1.0));
+      sum.set(key + "T_cal", ok(s_cal, s_cal.granular_temperature));
+    }
     sum.set(key + "mu_dem", p.value[0]);
-    sum.set(key + "mu_dem_err", p.error[0]);
+    sum.set(key + "mu_dem_err", p.value[0] > 0 ? p.error[0] : NAN);
     sum.set(key + "mu_cont", mu_c);
     sum.set(key + "T_dem", T_d);
     sum.set(key + "T_cont", T_c);
@@ -211,26 +373,33 @@ int run_pair_case(core::RunContext& ctx) {
     sum.set(key + "e_cont", e_c);
     sum.set(key + "rel_err_mu", row[rel_mu]);
     sum.set(key + "I_dem", I_d);
+    if (in_parallel) {
+      sum.set(key + "mu_kt", more.at("mu_kt"));
+      sum.set(key + "share_tau_fc", more.at("share_tau_fc"));
+    }
     if (J_d > 0) sum.set(key + "J_dem", J_d), sum.set(key + "J_cont", J_c);
     sum.set(key + "regime", row[regime]);
     log.info(
         "point {}: γ̇ = {:g} 1/s, I = {:.3g} ({}): μ DEM {:.4g} ± {:.2g} vs continuum {:.4g} "
-        "({:+.1f} %), e {:.4g} vs {:.4g}, T {:.3g} vs {:.3g} m²/s²{}",
+        "({:+.1f} %; kinetic theory alone {:.4g}), e {:.4g} vs {:.4g}, T {:.3g} vs {:.3g} m²/s², "
+        "τ carried {:.0f} % by the force chains{}",
         n, p.shear_rate, I_d, regime_name(flow_regime(I_d, J_d)), p.value[0], p.error[0], mu_c,
-        100 * row[rel_mu], e_d, e_c, T_d, T_c, s.ok ? "" : fmt::format(" ({})", s.why));
+        100 * row[rel_mu], more.at("mu_kt"), e_d, e_c, T_d, T_c, 100 * more.at("share_tau_fc"),
+        s.ok ? "" : fmt::format(" ({})", s.why));
     ++n;
   }
   sum.set("pair.count", n);
   sum.set("pair.rev_vs_algebraic_max_rel_diff", max_rev_diff);
   log.info(
-      "continuum by two paths (algebraic steady state vs time-stepped REV): largest relative "
-      "difference of μ, φ, T {:.2g}",
+      "kinetic theory alone by two paths (algebraic steady state vs time-stepped REV): largest "
+      "relative difference of μ, φ, T {:.2g}",
       max_rev_diff);
   ctx.result.write("/pair/J_dem", viscous_cols[0], "1",
                    "viscous number η0 γ̇ / σ_yy of the DEM condition (0 dry)");
   ctx.result.write("/pair/J_cont", viscous_cols[1], "1", "J of the continuum steady state");
   ctx.result.write("/pair/St", viscous_cols[2], "1", "Stokes number I²/J (inf dry)");
-  ctx.result.write("/pair/mu_rev", rev_cols[0], "1", "μ of the time-stepped REV (second path)");
+  ctx.result.write("/pair/mu_rev", rev_cols[0], "1",
+                   "μ of the time-stepped REV, kinetic theory alone (second path)");
   ctx.result.write("/pair/phi_rev", rev_cols[1], "1", "φ of the time-stepped REV");
   ctx.result.write("/pair/T_rev", rev_cols[2], "m^2/s^2", "T of the time-stepped REV");
   const char* names[21] = {"shear_rate", "normal_stress", "mu_dem",     "mu_dem_err", "mu_cont",
@@ -247,6 +416,12 @@ int run_pair_case(core::RunContext& ctx) {
                                  : std::string(names[k]) +
                                        " (_dem: DEM steady ± batch-means error, _cont: continuum "
                                        "steady simple shear at the DEM γ̇ and σ_yy)");
+  for (const auto& [name, values] : extra)
+    ctx.result.write("/pair/" + name, values, name.rfind("T_", 0) == 0 ? "m^2/s^2" : "1",
+                     name + " (_kt: kinetic theory alone; _cal: the model calibrated on the "
+                            "points with held_out = 0; share_*: fraction of τ or σ_yy carried "
+                            "by the force chains, collisions, liquid)");
+  write_model_curves(ctx, data.points, model, kinetic, calibrate ? &calibrated : nullptr);
   ctx.plot("plot_pair.py");
   return core::exit_ok;
 }

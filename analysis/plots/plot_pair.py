@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
-"""PNG plots of a `kind: pair` run (analysis/pair): DEM (± error) and continuum side by side vs I
-for μ, φ and T/(d γ̇)² (pair.png), and the relative errors of μ, e, T per point (pair_errors.png).
+"""PNG plots of a `kind: pair` run (analysis/pair): DEM points (± error) against the continuum
+models drawn as smooth curves over I (/pair/curve: the case's model, kinetic theory alone and,
+when the case calibrates, the calibrated model) for μ, φ and T (pair.png); the share of τ carried
+by the force chains (pair_shares.png); the relative errors of μ, e, T per point (pair_errors.png).
 Usage: plot_pair.py RUN_DIR"""
 import os
 import sys
@@ -27,9 +29,19 @@ def main(run):
         for ax, (name, label, log) in zip(axes, panels):
             y = g[name + "_dem"][:]
             err = g[name + "_dem_err"][:]
-            ax.errorbar(I, y, yerr=err, fmt="ko", capsize=2, label="DEM (LIGGGHTS)")
-            ax.plot(I[order], g[name + "_cont"][:][order], "r-", marker="s", ms=4,
-                    label="continuum (steady REV)")
+            ax.errorbar(I, y, yerr=err, fmt="ko", capsize=2, label="DEM (LIGGGHTS)", zorder=3)
+            if "curve" in g:
+                c = g["curve"]
+                Ic = c["I"][:]
+                styles = [("model", "r-", "continuum (case's model)"),
+                          ("kt", "b--", "kinetic theory alone"),
+                          ("cal", "g-", "continuum, calibrated")]
+                for tag, style, text in styles:
+                    if name + "_" + tag in c:
+                        ax.plot(Ic, c[name + "_" + tag][:], style, lw=1.5, label=text)
+            else:
+                ax.plot(I[order], g[name + "_cont"][:][order], "r-", marker="s", ms=4,
+                        label="continuum (steady REV)")
             ax.set_xscale("log")
             ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())  # narrow ranges
             if log:
@@ -43,6 +55,22 @@ def main(run):
         fig.tight_layout()
         fig.savefig(os.path.join(run, "pair.png"), dpi=120)
         plt.close(fig)
+
+        if "curve" in g and "share_tau_fc_model" in g["curve"]:
+            c = g["curve"]
+            fig, ax = plt.subplots(figsize=(6, 3.8))
+            ax.plot(c["I"][:], c["share_tau_fc_model"][:], "r-", label="force chains τ_FC/τ")
+            ax.plot(c["I"][:], 1 - c["share_tau_fc_model"][:], "b-",
+                    label="collisions + liquid (τ_COL + τ_L)/τ")
+            if "share_tau_fc_cal" in c:
+                ax.plot(c["I"][:], c["share_tau_fc_cal"][:], "g--", label="force chains, calibrated")
+            ax.set_xscale("log")
+            ax.set(xlabel="inertial number I", ylabel="share of τ", ylim=(-0.02, 1.02),
+                   title="who carries the shear stress (continuum)")
+            ax.legend(fontsize=8)
+            fig.tight_layout()
+            fig.savefig(os.path.join(run, "pair_shares.png"), dpi=120)
+            plt.close(fig)
 
         fig, ax = plt.subplots(figsize=(6, 3.8))
         for name, style in (("rel_err_mu", "o-"), ("rel_err_e", "s-"), ("rel_err_T", "^-")):

@@ -78,13 +78,17 @@ namespace {
 std::string yaml_number(double value) { return fmt::format("{}", value); }
 }  // namespace
 
-core::Field force_chains_section() {
+core::Field force_chains_section(bool enabled_by_default) {
   using model::force_chains::ForceChainParameters;
   const ForceChainParameters d{};
   core::Field f("force_chains", core::ValueType::section, "",
                 "force-chain term σ_FC = σ' (strain-hardening elasto-plasticity, model.md §2; "
                 "equations and sources in docs/model/force_chains.md). Compression positive.");
-  f.boolean("enabled", "switch the force-chain term on/off").default_value("false");
+  f.boolean("enabled",
+            enabled_by_default
+                ? "switch the force-chain term on/off (off: the kinetic-theory-only steady model)"
+                : "switch the force-chain term on/off")
+      .default_value(enabled_by_default ? "true" : "false");
   auto num = [&](const char* key, const char* unit, const char* doc, double value) -> core::Field& {
     return f.number(key, unit, doc).default_value(yaml_number(value));
   };
@@ -121,7 +125,10 @@ core::Field force_chains_section() {
       .greater_than(0);
   num("lambda_c", "", "λ_c of the critical state line", d.lambda_c).at_least(0);
   num("xi_c", "", "ξ_c of the critical state line", d.xi_c).greater_than(0);
-  num("atmospheric_pressure", "Pa", "p_atm of the critical state line", d.atmospheric_pressure)
+  num("atmospheric_pressure", "Pa",
+      "p_atm, the reference pressure of the critical state line (101.325 kPa for sand; the "
+      "stress scale of the sample for DEM spheres, e.g. 100 Pa)",
+      d.atmospheric_pressure)
       .greater_than(0);
   num("e_min", "", "minimum void ratio (state parameter bounds, regrowth)", d.e_min)
       .greater_than(0);
@@ -149,6 +156,19 @@ core::Field force_chains_section() {
       .default_value(fmt::format("{}", d.max_substeps))
       .at_least(1);
   return f;
+}
+
+core::Field steady_section() {
+  core::Field s("steady", core::ValueType::section, "",
+                "steady simple-shear forward model of pair and calibrate (docs/model/"
+                "steady_state.md)");
+  s.number("contact_production", "",
+           "α_FC: fraction of the force chains' shear work τ_FC γ̇ fed to the granular "
+           "temperature (granflow's own term; 0 = the seed's model: only σ_COL : D produces T)")
+      .default_value("0")
+      .at_least(0)
+      .at_most(1);
+  return s;
 }
 
 namespace {

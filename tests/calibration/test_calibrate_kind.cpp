@@ -20,6 +20,8 @@ std::string case_text(const std::filesystem::path& data, const std::string& para
          "material: {diameter: 1.0e-3, particle_density: 2500, restitution: 0.7, "
          "particle_friction: 0.5}\n"
          "collisional: {jamming_fraction: 0.587}\n"
+         // the synthetic data come from kinetic theory alone (testing::dry_model)
+         "force_chains: {enabled: false}\n"
          "data: {files: '" +
          data.string() +
          "', observables: 'friction solid_fraction scaled_temperature'}\n"
