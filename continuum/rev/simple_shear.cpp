@@ -6,17 +6,16 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "continuum/rev/simple_shear_mixed_control.hpp"
 #include "core/run.hpp"
 
 namespace granflow::rev {
 
 namespace {
 
-Eigen::Matrix3d simple_shear_rate(double shear_rate) {
-  // compression-positive strain rate of u_x = γ̇ y: ε̇ = -sym(∇u), ε̇_xy = -γ̇/2
-  Eigen::Matrix3d rate = Eigen::Matrix3d::Zero();
-  rate(0, 1) = rate(1, 0) = -0.5 * shear_rate;
-  return rate;
+// Share of a part in a total (0 when the total is 0).
+double share(double part, double total) {
+  return total != 0.0 && part != 0.0 ? part / total : 0.0;
 }
 
 // χ = f1² / (1.5 ν² df1/dν): the volumetric work of a constant-pressure point per unit of its
@@ -80,18 +79,28 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
   const auto& col = settings.collisional_parameters;
   const double d = col.diameter, rho_p = col.particle_density;
   const double gamma_dot = control.shear_rate;
-  const Eigen::Matrix3d shear = simple_shear_rate(gamma_dot);
+  const Eigen::Matrix3d shear = simple_shear_strain_rate(gamma_dot);
 
   const bool force_chains = settings.force_chains;
-  continuum::PointState state =
-      point.initial_state(control.void_ratio, control.effective_pressure, control.overconsolidation,
-                          control.initial_temperature);
   const bool constant_pressure = control.control == ShearControl::constant_pressure;
-  if (constant_pressure && force_chains)
-    throw std::invalid_argument(
-        "simple shear at constant pressure with force chains is not implemented (the skeleton "
-        "and p_COL share the imposed p); use constant_volume or kind: rev, test: triaxial");
-  if (constant_pressure)
+  // Constant pressure with force chains: mixed control of every step (ε̇_yy solved for σ_yy = p).
+  const bool mixed_control = constant_pressure && force_chains;
+  double effective_pressure = control.effective_pressure;
+  if (mixed_control) {
+    // The skeleton takes what p_COL(ν0, T0) leaves of p: σ_yy = p from the first step on.
+    const auto& col = settings.collisional_parameters;
+    const double nu0 = 1.0 / (1.0 + control.void_ratio);
+    const double p_col0 =
+        settings.collisional
+            ? model::collisional_pressure(col, model::collisional_coefficients(col, nu0),
+                                          control.initial_temperature)
+            : 0.0;
+    effective_pressure = std::max(control.normal_stress - p_col0, 0.0);
+  }
+  continuum::PointState state =
+      point.initial_state(control.void_ratio, effective_pressure, control.overconsolidation,
+                          control.initial_temperature);
+  if (constant_pressure && !mixed_control)
     state.solid_fraction =
         solid_fraction_at_pressure(point, control.normal_stress, state.granular_temperature);
   result = SimpleShearResult{};
@@ -104,6 +113,7 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
   double time = 0, strain = 0;
   result.min_time_step = INFINITY;
   int quiet_steps = 0;  // consecutive steps below the steady tolerance
+  double vertical_strain_guess = 0.0;  // Δε_yy of the previous step (mixed control)
 
   for (long step = 1; step <= control.max_steps; ++step) {
     const Eigen::Matrix3d& rate = shear;
@@ -112,8 +122,11 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
     // (3/2) ρ_p ν Ṫ = ... as an effective heat capacity (1 + χ) with χ = f1² / (1.5 ν² f1') > 0,
     // independent of T. Treating it as an explicit source instead is unstable (period-2
     // oscillation of T and ν with a collapsing step). Steady states are unchanged.
-    const double heat_capacity_factor =
-        constant_pressure ? 1.0 + compaction_capacity(point, state.solid_fraction) : 1.0;
+    // The mixed control needs no such factor: there ε̇_yy of the step itself (solved implicitly)
+    // enters the T balance through tr(ε̇).
+    const double heat_capacity_factor = constant_pressure && !mixed_control
+                                            ? 1.0 + compaction_capacity(point, state.solid_fraction)
+                                            : 1.0;
     // Time step: a fraction of the shear time 1/γ̇ and of the relaxation time of T^½.
     const auto start = point.evaluate(state, rate);
     continuum::RiccatiCoefficients k = start.temperature_equation;
@@ -133,9 +146,24 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
 
     const double T_old = state.granular_temperature, nu_old = state.solid_fraction;
     const Eigen::Matrix3d fc_old = state.force_chains.stress;
-    auto parts = force_chains ? point.advance(state, rate, dt)
-                              : point.update(state, rate, dt, heat_capacity_factor);
-    if (constant_pressure) {
+    continuum::StressParts parts;
+    double vertical_strain_rate = 0.0;
+    if (mixed_control) {
+      NormalStressStep mixed =
+          advance_at_normal_stress(point, state, gamma_dot, dt, control.normal_stress,
+                                   vertical_strain_guess, control.normal_stress_tolerance, step);
+      state = mixed.state;
+      parts = mixed.parts;
+      vertical_strain_guess = mixed.vertical_strain;
+      vertical_strain_rate = mixed.vertical_strain / dt;
+      result.solver_evaluations += mixed.evaluations;
+      result.max_normal_stress_residual = std::max(
+          result.max_normal_stress_residual, std::abs(mixed.residual) / control.normal_stress);
+    } else {
+      parts = force_chains ? point.advance(state, rate, dt)
+                           : point.update(state, rate, dt, heat_capacity_factor);
+    }
+    if (constant_pressure && !mixed_control) {
       state.solid_fraction =
           solid_fraction_at_pressure(point, control.normal_stress, state.granular_temperature);
       if (std::isnan(state.solid_fraction))
@@ -159,7 +187,9 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
     const double tau_fc = 0.0 - parts.force_chain(0, 1);
     const double tau = tau_col + tau_liq + tau_fc;
     const double p_eff = parts.force_chain.trace() / 3.0;
-    const double p = parts.collisional_pressure + p_eff;
+    const Eigen::Matrix3d total = parts.total_without_pore_pressure();
+    // constant pressure: the normal stress σ_yy (= p_COL without force chains, exactly)
+    const double p = constant_pressure ? total(1, 1) : parts.collisional_pressure + p_eff;
     core::check_finite(tau, step, "REV point", "shear_stress");
     series.time.push_back(time);
     series.strain.push_back(strain);
@@ -176,6 +206,10 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
     series.force_chain_shear_stress.push_back(tau_fc);
     series.effective_pressure.push_back(p_eff);
     series.yield_size.push_back(state.force_chains.r_c);
+    series.normal_stress.push_back(total(1, 1));
+    series.force_chain_normal_stress.push_back(parts.force_chain(1, 1));
+    series.collisional_pressure.push_back(parts.collisional_pressure);
+    series.vertical_strain_rate.push_back(vertical_strain_rate);
     result.steps = step;
 
     // Steady: relative change of T and ν per unit strain below the tolerance for 5 steps.
@@ -207,6 +241,18 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
       s.inertial_number = series.inertial_number.back();
       s.viscous_number =
           settings.liquid && p > 0 ? settings.liquid_parameters.viscosity * gamma_dot / p : 0.0;
+      s.normal_stress = total(1, 1);
+      s.force_chain_normal_stress = parts.force_chain(1, 1);
+      s.collisional_normal_stress = parts.collisional(1, 1);
+      s.liquid_normal_stress = parts.liquid(1, 1);
+      s.share_tau_force_chains = share(tau_fc, tau);
+      s.share_tau_collisional = share(tau_col, tau);
+      s.share_tau_liquid = share(tau_liq, tau);
+      s.share_normal_force_chains = share(s.force_chain_normal_stress, s.normal_stress);
+      s.share_normal_collisional = share(s.collisional_normal_stress, s.normal_stress);
+      s.share_normal_liquid = share(s.liquid_normal_stress, s.normal_stress);
+      s.force_chain_stress = parts.force_chain;
+      s.fluidized = force_chains && state.force_chains.fluidized;
       break;
     }
   }

@@ -1,7 +1,9 @@
 // Homogeneous steady simple shear of a material point (REV) at imposed shear rate γ̇, at constant
 // volume (imposed void ratio) or constant normal stress (imposed p on the granular phase; e
 // evolves). T is integrated in time from the energy balance (model.md §5) until a steady state is
-// detected. The closed forms of model.md §3 are its first check.
+// detected. The closed forms of model.md §3 are its first check. At constant normal stress with
+// the force chains on, each step is a mixed control (ε̇_xy imposed, ε̇_xx = ε̇_zz = 0, ε̇_yy solved
+// so that σ_yy = p; rev/simple_shear_mixed_control.hpp, docs/model/multi_regime.md §4.1).
 #pragma once
 
 #include <functional>
@@ -23,29 +25,47 @@ struct SimpleShearControl {
   double steady_tolerance = 1e-10;    // relative change per unit strain of T and ν
   double max_strain = 1e4;            // stop (not steady) beyond this strain
   long max_steps = 1000000;
-  // With force chains (constant volume only): the skeleton starts isotropic at p'0 with
-  // r_c = √3 p'0 ocr, and each step's shear strain increment is at most `strain_increment`.
-  double effective_pressure = 50e3;  // p'0, Pa
+  // With force chains: the skeleton starts isotropic at p'0 with r_c = √3 p'0 ocr, and each
+  // step's shear strain increment is at most `strain_increment`. At constant pressure p'0 is not
+  // read: the skeleton starts at p'0 = p - p_COL(ν0, T0), so that σ_yy = p from the start (or
+  // fluidized if p_COL(ν0, T0) >= p).
+  double effective_pressure = 50e3;  // p'0, Pa (constant volume)
   double overconsolidation = 1.0;
   double strain_increment = 1e-3;  // largest Δγ per step with force chains
+  // Constant pressure with force chains: |σ_yy - p| <= this × p after every step.
+  double normal_stress_tolerance = 1e-12;
 };
 
 struct SimpleShearSeries {
   std::vector<double> time, strain, time_step, granular_temperature, void_ratio, solid_fraction,
       pressure, shear_stress, collisional_shear_stress, liquid_shear_stress, friction,
       inertial_number, force_chain_shear_stress, effective_pressure, yield_size;
+  // σ_yy of the grains (σ_FC + σ_COL + σ_L), its σ_FC part, p_COL and ε̇_yy (compression
+  // positive; 0 except at constant pressure with force chains).
+  std::vector<double> normal_stress, force_chain_normal_stress, collisional_pressure,
+      vertical_strain_rate;
 };
 
 struct SimpleShearSteady {
   bool reached = false;
   double strain = 0;  // strain at which steady state was detected
   double void_ratio = 0, solid_fraction = 0, granular_temperature = 0;
-  double pressure = 0;  // granular normal stress p (p_COL + p'), Pa
+  // Granular normal stress, Pa: constant volume p_COL + p'; constant pressure σ_yy (= the
+  // imposed p; without force chains σ_yy = p_COL).
+  double pressure = 0;
   double effective_pressure = 0, force_chain_shear_stress = 0, yield_size = 0;     // σ_FC part
   double shear_stress = 0, collisional_shear_stress = 0, liquid_shear_stress = 0;  // Pa
   double friction = 0;                                                             // μ = τ/p
   double inertial_number = 0;  // I = γ̇ d / sqrt(p/ρ_p)
   double viscous_number = 0;   // J = η0 γ̇ / p (liquid on)
+  // σ_yy = σ_yy,FC + σ_yy,COL + σ_yy,L (σ_yy,COL = p_COL + 2 η_COL ε̇'_yy), Pa, and the shares of
+  // τ and σ_yy carried by each term (each triple sums to 1; 0 when τ or σ_yy is 0).
+  double normal_stress = 0, force_chain_normal_stress = 0, collisional_normal_stress = 0,
+         liquid_normal_stress = 0;
+  double share_tau_force_chains = 0, share_tau_collisional = 0, share_tau_liquid = 0;
+  double share_normal_force_chains = 0, share_normal_collisional = 0, share_normal_liquid = 0;
+  Eigen::Matrix3d force_chain_stress = Eigen::Matrix3d::Zero();  // σ_FC at the end, Pa
+  bool fluidized = false;  // the skeleton is fluidized at the end (σ_FC = 0)
 };
 
 struct SimpleShearResult {
@@ -54,6 +74,10 @@ struct SimpleShearResult {
   long steps = 0;
   double min_time_step = 0, max_time_step = 0;
   double max_explicit_ratio = 0;  // largest Δt / explicit Euler limit used
+  // Mixed control (constant pressure with force chains): largest |σ_yy - p| / p after a step,
+  // and the trial advances it took in all.
+  double max_normal_stress_residual = 0;
+  long solver_evaluations = 0;
 };
 
 // Runs to steady state, filling `result` as it goes. `progress(strain)` is called now and then
