@@ -16,7 +16,8 @@ core::Schema simple_shear_schema() {
       "rev", "simple_shear",
       "Homogeneous simple shear of one material point at imposed shear rate, at constant volume "
       "or constant normal stress, integrated to steady state (model.md §3-5). With force_chains "
-      "enabled (constant volume only) the skeleton σ_FC works in parallel: all terms.");
+      "enabled the skeleton σ_FC works in parallel: all terms; at constant normal stress each "
+      "step then solves ε̇_yy for σ_yy = p (mixed control, docs/model/multi_regime.md §4.1).");
   s.add(continuum::material_section());
   s.add(continuum::force_chains_section());
   s.add(continuum::collisional_section());
@@ -40,7 +41,10 @@ core::Schema simple_shear_schema() {
   initial.number("granular_temperature", "m^2/s^2", "T at t = 0")
       .default_value("1.0e-6")
       .at_least(0);
-  initial.number("effective_pressure", "Pa", "isotropic σ_FC = p'0 I at t = 0 (force chains on)")
+  initial
+      .number("effective_pressure", "Pa",
+              "isotropic σ_FC = p'0 I at t = 0 (force chains on, constant_volume; at "
+              "constant_pressure p'0 = p - p_COL(ν0, T0) instead)")
       .default_value("50.0e3")
       .greater_than(0)
       .sweepable();
@@ -74,10 +78,6 @@ namespace {
 void check_simple_shear(const core::Case& c) {
   const auto settings = continuum::read_multi_regime_settings(c);
   const std::string control = c.string("loading.control");
-  if (settings.force_chains && control != "constant_volume")
-    c.fail("loading.control",
-           "with force_chains.enabled the simple shear runs at constant_volume "
-           "(use kind: rev, test: triaxial for an imposed total stress)");
   if (control == "constant_volume") {
     if (!c.has("loading.void_ratio"))
       c.fail("loading.void_ratio",
@@ -104,9 +104,21 @@ void check_simple_shear(const core::Case& c) {
              "missing required key for constant_pressure; expected p > 0 [Pa]");
     if (!settings.collisional)
       c.fail("collisional.enabled", "constant_pressure needs the collisional term (it carries p)");
+    // With force chains e evolves from loading.void_ratio (default 0.8): ν0 below jamming.
+    const double nu0 =
+        1.0 / (1.0 + (c.has("loading.void_ratio") ? c.number("loading.void_ratio") : 0.8));
+    if (settings.force_chains &&
+        nu0 >= model::maximum_solid_fraction(settings.collisional_parameters))
+      c.fail("loading.void_ratio",
+             fmt::format("initial solid fraction 1/(1+e) = {:.6g} is at or beyond the jamming "
+                         "fraction {:.6g}; expected e > {:.6g}",
+                         nu0, model::maximum_solid_fraction(settings.collisional_parameters),
+                         1.0 / model::maximum_solid_fraction(settings.collisional_parameters) -
+                             1.0));
     // Dry kinetic theory has a dense steady state only below I_max (with liquid, Λ lowers T and
-    // the bound moves, so it is then detected at run time instead).
-    if (!settings.liquid && settings.collisional_parameters.correlation_length ==
+    // the bound moves, with force chains the skeleton can carry p: then detected at run time).
+    if (!settings.liquid && !settings.force_chains &&
+        settings.collisional_parameters.correlation_length ==
                                 model::CorrelationLengthKind::diameter) {
       const auto bound = maximum_steady_inertial_number(settings.collisional_parameters);
       const double I = c.number("loading.shear_rate") * settings.collisional_parameters.diameter /
@@ -162,7 +174,8 @@ void write_series(core::ResultFile& out, const std::string& group, const SimpleS
             "granular temperature T");
   out.write(group + "/void_ratio", s.void_ratio, "1", "void ratio e");
   out.write(group + "/solid_fraction", s.solid_fraction, "1", "solid fraction ν");
-  out.write(group + "/pressure", s.pressure, "Pa", "normal stress on the grains p (p_COL)");
+  out.write(group + "/pressure", s.pressure, "Pa",
+            "normal stress on the grains p (constant pressure: σ_yy; constant volume: p_COL + p')");
   out.write(group + "/shear_stress", s.shear_stress, "Pa", "shear stress τ = τ_COL + τ_L");
   out.write(group + "/collisional_shear_stress", s.collisional_shear_stress, "Pa", "τ_COL");
   out.write(group + "/liquid_shear_stress", s.liquid_shear_stress, "Pa", "τ_L = η(ν) γ̇");
@@ -171,6 +184,11 @@ void write_series(core::ResultFile& out, const std::string& group, const SimpleS
   out.write(group + "/force_chain_shear_stress", s.force_chain_shear_stress, "Pa", "τ_FC");
   out.write(group + "/effective_pressure", s.effective_pressure, "Pa", "p' = p_FC");
   out.write(group + "/yield_size", s.yield_size, "Pa", "r_c of the force chains");
+  out.write(group + "/normal_stress", s.normal_stress, "Pa", "σ_yy = σ_yy,FC + σ_yy,COL + σ_yy,L");
+  out.write(group + "/force_chain_normal_stress", s.force_chain_normal_stress, "Pa", "σ_yy,FC");
+  out.write(group + "/collisional_pressure", s.collisional_pressure, "Pa", "p_COL");
+  out.write(group + "/vertical_strain_rate", s.vertical_strain_rate, "1/s",
+            "ε̇_yy (compression positive; mixed control only, else 0)");
 }
 
 int run_simple_shear_case(core::RunContext& ctx) {
@@ -212,7 +230,8 @@ int run_simple_shear_case(core::RunContext& ctx) {
          {&ts.time, &ts.strain, &ts.time_step, &ts.granular_temperature, &ts.void_ratio,
           &ts.solid_fraction, &ts.pressure, &ts.shear_stress, &ts.collisional_shear_stress,
           &ts.liquid_shear_stress, &ts.friction, &ts.inertial_number, &ts.force_chain_shear_stress,
-          &ts.effective_pressure, &ts.yield_size})
+          &ts.effective_pressure, &ts.yield_size, &ts.normal_stress, &ts.force_chain_normal_stress,
+          &ts.collisional_pressure, &ts.vertical_strain_rate})
       packed.numbers(*v);
     const auto& st = r.steady;
     packed.integer(st.reached ? 1 : 0);
@@ -220,9 +239,15 @@ int run_simple_shear_case(core::RunContext& ctx) {
          {st.strain, st.void_ratio, st.solid_fraction, st.granular_temperature, st.pressure,
           st.effective_pressure, st.force_chain_shear_stress, st.yield_size, st.shear_stress,
           st.collisional_shear_stress, st.liquid_shear_stress, st.friction, st.inertial_number,
-          st.viscous_number, r.min_time_step, r.max_time_step, r.max_explicit_ratio})
+          st.viscous_number, st.normal_stress, st.force_chain_normal_stress,
+          st.collisional_normal_stress, st.liquid_normal_stress, st.share_tau_force_chains,
+          st.share_tau_collisional, st.share_tau_liquid, st.share_normal_force_chains,
+          st.share_normal_collisional, st.share_normal_liquid, r.min_time_step, r.max_time_step,
+          r.max_explicit_ratio, r.max_normal_stress_residual})
       packed.number(v);
     packed.integer(r.steps);
+    packed.integer(r.solver_evaluations);
+    packed.integer(st.fluidized ? 1 : 0);
     packed.integer(failure ? 1 : 0);
     if (failure) core::pack_numerical_failure(packed, *failure);
     return packed.take();
@@ -239,7 +264,8 @@ int run_simple_shear_case(core::RunContext& ctx) {
          {&ts.time, &ts.strain, &ts.time_step, &ts.granular_temperature, &ts.void_ratio,
           &ts.solid_fraction, &ts.pressure, &ts.shear_stress, &ts.collisional_shear_stress,
           &ts.liquid_shear_stress, &ts.friction, &ts.inertial_number, &ts.force_chain_shear_stress,
-          &ts.effective_pressure, &ts.yield_size})
+          &ts.effective_pressure, &ts.yield_size, &ts.normal_stress, &ts.force_chain_normal_stress,
+          &ts.collisional_pressure, &ts.vertical_strain_rate})
       *v = packed.numbers();
     auto& s = r.steady;
     s.reached = packed.integer() != 0;
@@ -247,9 +273,15 @@ int run_simple_shear_case(core::RunContext& ctx) {
          {&s.strain, &s.void_ratio, &s.solid_fraction, &s.granular_temperature, &s.pressure,
           &s.effective_pressure, &s.force_chain_shear_stress, &s.yield_size, &s.shear_stress,
           &s.collisional_shear_stress, &s.liquid_shear_stress, &s.friction, &s.inertial_number,
-          &s.viscous_number, &r.min_time_step, &r.max_time_step, &r.max_explicit_ratio})
+          &s.viscous_number, &s.normal_stress, &s.force_chain_normal_stress,
+          &s.collisional_normal_stress, &s.liquid_normal_stress, &s.share_tau_force_chains,
+          &s.share_tau_collisional, &s.share_tau_liquid, &s.share_normal_force_chains,
+          &s.share_normal_collisional, &s.share_normal_liquid, &r.min_time_step,
+          &r.max_time_step, &r.max_explicit_ratio, &r.max_normal_stress_residual})
       *v = packed.number();
     r.steps = static_cast<long>(packed.integer());
+    r.solver_evaluations = static_cast<long>(packed.integer());
+    s.fluidized = packed.integer() != 0;
     const std::string group = sweep ? fmt::format("/conditions/{}", n) : std::string("/series");
     write_series(ctx.result, sweep ? group + "/series" : group, r.series);
     // A failed integration: what ran is written (above), then it stops the run as it always did.
@@ -283,10 +315,35 @@ int run_simple_shear_case(core::RunContext& ctx) {
     sum.set("steady.I" + suffix, s.inertial_number);
     sum.set("steady.start_strain" + suffix, s.strain);
     sum.set("steady.reached" + suffix, s.reached ? 1 : 0);
+    // Shares of τ and σ_yy carried by each term (each triple sums to 1).
+    sum.set("steady.sigma_yy" + suffix, s.normal_stress);
+    sum.set("steady.share.tau_fc" + suffix, s.share_tau_force_chains);
+    sum.set("steady.share.tau_col" + suffix, s.share_tau_collisional);
+    sum.set("steady.share.tau_liq" + suffix, s.share_tau_liquid);
+    sum.set("steady.share.sigma_yy_fc" + suffix, s.share_normal_force_chains);
+    sum.set("steady.share.sigma_yy_col" + suffix, s.share_normal_collisional);
+    sum.set("steady.share.sigma_yy_liq" + suffix, s.share_normal_liquid);
+    ctx.log->info(
+        "{}: shares of τ: force chains {:.4f}, collisional {:.4f}, liquid {:.4f}; of σ_yy = "
+        "{:.6g} Pa: force chains {:.4f}, collisional {:.4f}, liquid {:.4f}",
+        label, s.share_tau_force_chains, s.share_tau_collisional, s.share_tau_liquid,
+        s.normal_stress, s.share_normal_force_chains, s.share_normal_collisional,
+        s.share_normal_liquid);
     if (settings.force_chains) {
       sum.set("steady.tau_fc" + suffix, s.force_chain_shear_stress);
       sum.set("steady.p_eff" + suffix, s.effective_pressure);
+      sum.set("steady.sigma_yy_fc" + suffix, s.force_chain_normal_stress);
+      sum.set("steady.fluidized" + suffix, s.fluidized ? 1 : 0);
       sum.set("final.r_c" + suffix, s.yield_size);
+    }
+    if (settings.force_chains && control.control == ShearControl::constant_pressure) {
+      sum.set("accuracy.normal_stress_residual_max" + suffix, r.max_normal_stress_residual);
+      sum.set("cost.solver_evaluations" + suffix, static_cast<double>(r.solver_evaluations));
+      ctx.log->info(
+          "{}: mixed control: max |σ_yy - p|/p = {:.3g} after a step, {} trial advances "
+          "({:.3g} per step)",
+          label, r.max_normal_stress_residual, r.solver_evaluations,
+          static_cast<double>(r.solver_evaluations) / std::max(r.steps, 1L));
     }
     if (settings.liquid) {
       sum.set("steady.J" + suffix, s.viscous_number);
