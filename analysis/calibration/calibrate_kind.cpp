@@ -147,6 +147,8 @@ int run_calibrate_case(core::RunContext& ctx) {
                              "= {:.4g} in simple shear; docs/model/steady_state.md)",
                              critical_state_friction(start.settings.force_chain_parameters))
                : std::string("kinetic theory alone (force_chains.enabled: false)"));
+  if (const auto caveat = in_parallel_caveat(start.settings); !caveat.empty())
+    log.warn("{}", caveat);
   const auto names = split_names(c.string("fit.parameters"));
   std::vector<Observable> observables;
   for (const auto& o : split_names(c.string("data.observables")))

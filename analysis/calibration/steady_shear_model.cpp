@@ -1,5 +1,7 @@
 #include "analysis/calibration/steady_shear_model.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -77,6 +79,19 @@ double critical_state_friction(const model::force_chains::ForceChainParameters& 
   // Plane strain, isochoric plastic flow coaxial with D: σ_zz = p, J3 = 0 (cos 3θ = 0), so
   // τ/σ_yy = q/(√3 p) = M(θ = 0)/√3 on the Lade-Duncan locus.
   return model::force_chains::CriticalStateLadeDuncan(p).stress_ratio(0.0) / std::sqrt(3.0);
+}
+
+std::string in_parallel_caveat(const continuum::MultiRegimeSettings& settings) {
+  if (!settings.force_chains) return "";
+  const double nu_line = 1.0 / (1.0 + settings.force_chain_parameters.e_Gamma);
+  const double nu_max = model::maximum_solid_fraction(settings.collisional_parameters);
+  if (nu_line < nu_max) return "";
+  return fmt::format(
+      "the critical state line starts at φ = 1/(1+e_Γ) = {:.4f}, at or beyond the largest solid "
+      "fraction of the collisional closures ({:.4f}): the force chains never carry load and the "
+      "steady state is kinetic theory's; set force_chains.e_Gamma for this material (e.g. "
+      "include cases/rev/materials/dem_spheres_force_chains.yaml)",
+      nu_line, nu_max);
 }
 
 double steady_sqrt_temperature_at(const continuum::MultiRegimeSettings& settings,

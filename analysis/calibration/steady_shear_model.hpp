@@ -35,6 +35,8 @@
 // the same two equations, and tests/calibration checks the two agree to 1e-6.
 #pragma once
 
+#include <string>
+
 #include "continuum/model/force_chains/force_chain_parameters.hpp"
 #include "continuum/multi_regime/multi_regime_point.hpp"
 
@@ -87,5 +89,10 @@ double steady_sqrt_temperature_at(const continuum::MultiRegimeSettings& settings
 double critical_state_pressure(const model::force_chains::ForceChainParameters& p,
                                double solid_fraction);
 double critical_state_friction(const model::force_chains::ForceChainParameters& p);
+
+// Empty, or why the force chains of `settings` can never carry load in the steady state (the
+// critical state line lies beyond the jamming fraction of g0, so p_COL diverges first and the
+// state is kinetic theory's at every I): for a log warning.
+std::string in_parallel_caveat(const continuum::MultiRegimeSettings& settings);
 
 }  // namespace granflow::calibration

@@ -204,6 +204,8 @@ int run_pair_case(core::RunContext& ctx) {
                                          model.settings.force_chain_parameters))
                        : std::string("kinetic theory alone (force_chains.enabled: false)"));
 
+  if (const auto caveat = calibration::in_parallel_caveat(model.settings); !caveat.empty())
+    log.warn("{}", caveat);
   // ---- optional calibration on the DEM points just run (every other point held out)
   std::vector<std::string> fit_names;
   for (const auto& name : split_words(c.string("calibrate.parameters")))
