@@ -74,3 +74,24 @@ TEST(RevCases, ReconsolidationRegrowsTheSkeleton) {
   // σ_cell - u_w0 = 50 kPa back on the skeleton (+ q_FC/3 of the creep shear; 20 %)
   EXPECT_NEAR(s["final.p_eff"].as<double>(), 50e3, 10e3);
 }
+
+TEST(RevCases, ForceChainsAtConstantPressureWritesTheShares) {
+  // cases/rev/simple_shear_force_chains_pressure.yaml: the mixed control holds σ_yy = 100 Pa
+  // and the steady shares of τ and σ_yy are written (values measured in
+  // tests/rev/test_simple_shear_force_chains_pressure.cpp: τ 82 % force chains, σ_yy 88 %).
+  const YAML::Node s = run_case("simple_shear_force_chains_pressure");
+  EXPECT_EQ(s["steady.reached"].as<double>(), 1.0);
+  EXPECT_EQ(s["steady.fluidized"].as<double>(), 0.0);
+  EXPECT_NEAR(s["steady.sigma_yy"].as<double>(), 100.0, 1e-9);
+  EXPECT_LT(s["accuracy.normal_stress_residual_max"].as<double>(), 1e-9);
+  EXPECT_NEAR(s["steady.share.tau_fc"].as<double>() + s["steady.share.tau_col"].as<double>() +
+                  s["steady.share.tau_liq"].as<double>(),
+              1.0, 1e-12);
+  EXPECT_NEAR(s["steady.share.sigma_yy_fc"].as<double>() +
+                  s["steady.share.sigma_yy_col"].as<double>() +
+                  s["steady.share.sigma_yy_liq"].as<double>(),
+              1.0, 1e-12);
+  EXPECT_NEAR(s["steady.share.tau_fc"].as<double>(), 0.821, 0.005);
+  EXPECT_NEAR(s["steady.share.sigma_yy_fc"].as<double>(), 0.882, 0.005);
+  EXPECT_NEAR(s["steady.mu"].as<double>(), 0.398, 0.002);
+}
