@@ -48,9 +48,9 @@ double vertical_stiffness(const continuum::MultiRegimePoint& point,
 }  // namespace
 
 NormalStressStep constant_normal_stress_step(const continuum::MultiRegimePoint& point,
-                                             const continuum::PointState& start,
-                                             double shear_rate, double dt, double normal_stress,
-                                             double guess, double relative_tolerance, long step) {
+                                             const continuum::PointState& start, double shear_rate,
+                                             double dt, double normal_stress, double guess,
+                                             double relative_tolerance, long step) {
   const auto& settings = point.settings();
   const double tolerance = relative_tolerance * std::abs(normal_stress);
   int evaluations = 0;
@@ -145,9 +145,9 @@ NormalStressStep advance_at_normal_stress(const continuum::MultiRegimePoint& poi
   if (std::abs(whole.residual) <= relative_tolerance * std::abs(normal_stress) || max_splits <= 0)
     return whole;
   const double half = 0.5 * dt;
-  NormalStressStep first = advance_at_normal_stress(point, start, shear_rate, half, normal_stress,
-                                                    0.5 * guess, relative_tolerance, step,
-                                                    max_splits - 1);
+  NormalStressStep first =
+      advance_at_normal_stress(point, start, shear_rate, half, normal_stress, 0.5 * guess,
+                               relative_tolerance, step, max_splits - 1);
   NormalStressStep second =
       advance_at_normal_stress(point, first.state, shear_rate, half, normal_stress,
                                first.vertical_strain, relative_tolerance, step, max_splits - 1);

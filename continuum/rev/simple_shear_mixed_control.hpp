@@ -16,12 +16,12 @@
 namespace granflow::rev {
 
 struct NormalStressStep {
-  continuum::PointState state;        // after the step
-  continuum::StressParts parts;       // at the state after the step
-  Eigen::Matrix3d strain_rate;        // the rate used (ε̇_yy = vertical_strain / Δt)
-  double vertical_strain = 0;         // Δε_yy over the step (compression positive)
-  double residual = 0;                // σ_yy - p after the step, Pa
-  int evaluations = 0;                // trial advances
+  continuum::PointState state;   // after the step
+  continuum::StressParts parts;  // at the state after the step
+  Eigen::Matrix3d strain_rate;   // the rate used (ε̇_yy = vertical_strain / Δt)
+  double vertical_strain = 0;    // Δε_yy over the step (compression positive)
+  double residual = 0;           // σ_yy - p after the step, Pa
+  int evaluations = 0;           // trial advances
 };
 
 // Compression-positive rate of simple shear u_x = γ̇ y with vertical strain rate ε̇_yy.
@@ -32,9 +32,9 @@ Eigen::Matrix3d simple_shear_strain_rate(double shear_rate, double vertical_stra
 // `guess` is the first trial Δε_yy (the previous step's). Throws core::NumericalFailure (naming
 // `step`) when no admissible Δε_yy (ν in [0.05, ν_c)) brackets the root.
 NormalStressStep constant_normal_stress_step(const continuum::MultiRegimePoint& point,
-                                             const continuum::PointState& start,
-                                             double shear_rate, double dt, double normal_stress,
-                                             double guess, double relative_tolerance, long step);
+                                             const continuum::PointState& start, double shear_rate,
+                                             double dt, double normal_stress, double guess,
+                                             double relative_tolerance, long step);
 
 // The step of Δt as above, split into two half steps (each again up to `max_splits` levels) when
 // no Δε_yy meets the tolerance: R(Δε_yy) jumps by ~STOL |Δσ_FC| where the force-chain
@@ -44,7 +44,6 @@ NormalStressStep constant_normal_stress_step(const continuum::MultiRegimePoint& 
 NormalStressStep advance_at_normal_stress(const continuum::MultiRegimePoint& point,
                                           const continuum::PointState& start, double shear_rate,
                                           double dt, double normal_stress, double guess,
-                                          double relative_tolerance, long step,
-                                          int max_splits = 8);
+                                          double relative_tolerance, long step, int max_splits = 8);
 
 }  // namespace granflow::rev

@@ -94,19 +94,18 @@ TEST(SimpleShearForceChainsPressure, DenseAndLooseStartsReachTheSameSteadyState)
         "            shares of tau: FC %.4f COL %.4f LIQ %.4f; of sigma_yy: FC %.4f COL %.4f "
         "LIQ %.4f\n",
         M_c, kDense, d.friction, d.solid_fraction, d.granular_temperature, d.void_ratio, d.strain,
-        dense.result.steps, dense.result.solver_evaluations, dense.wall_seconds, kLoose,
-        l.friction, l.solid_fraction, l.granular_temperature, l.void_ratio, l.strain,
-        loose.result.steps, loose.result.solver_evaluations, loose.wall_seconds, dmu, dnu, dT,
-        l.share_tau_force_chains, l.share_tau_collisional, l.share_tau_liquid,
-        l.share_normal_force_chains, l.share_normal_collisional, l.share_normal_liquid);
+        dense.result.steps, dense.result.solver_evaluations, dense.wall_seconds, kLoose, l.friction,
+        l.solid_fraction, l.granular_temperature, l.void_ratio, l.strain, loose.result.steps,
+        loose.result.solver_evaluations, loose.wall_seconds, dmu, dnu, dT, l.share_tau_force_chains,
+        l.share_tau_collisional, l.share_tau_liquid, l.share_normal_force_chains,
+        l.share_normal_collisional, l.share_normal_liquid);
     EXPECT_LT(dmu, 2e-5);
     EXPECT_LT(dnu, 1e-6);
     EXPECT_LT(dT, 1e-6);
     EXPECT_NEAR(l.share_tau_force_chains + l.share_tau_collisional + l.share_tau_liquid, 1.0,
                 1e-12);
-    EXPECT_NEAR(
-        l.share_normal_force_chains + l.share_normal_collisional + l.share_normal_liquid, 1.0,
-        1e-12);
+    EXPECT_NEAR(l.share_normal_force_chains + l.share_normal_collisional + l.share_normal_liquid,
+                1.0, 1e-12);
   }
 }
 
@@ -171,10 +170,8 @@ TEST(SimpleShearForceChainsPressure, NormalStressIsImposedAtEveryStep) {
       max_vertical_rate = std::max(max_vertical_rate, std::abs(se.vertical_strain_rate[i]));
     }
     const std::size_t last = se.normal_stress.size() - 1;
-    const double steady_split =
-        std::abs((se.force_chain_normal_stress[last] + se.collisional_pressure[last]) /
-                     kNormalStress -
-                 1.0);
+    const double steady_split = std::abs(
+        (se.force_chain_normal_stress[last] + se.collisional_pressure[last]) / kNormalStress - 1.0);
     std::printf(
         "e0 = %.3f: max |sigma_yy/p - 1| = %.3g over %ld steps (solver %.3g); "
         "|(sigma_yy,FC + p_COL)/p - 1|: %.3g at steady state, %.3g at most in the transient "
@@ -196,13 +193,12 @@ TEST(SimpleShearForceChainsPressure, WithoutForceChainsTheConstantPressurePathIs
     double shear_rate, mu, nu, T, strain;
     long steps;
   };
-  const Reference reference[] = {
-      {1, 0.60588587143276451, 0.58689633019729581, 1.8045202766132177e-07, 0.0073656800212245138,
-       69},
-      {10, 0.60579630075232271, 0.58477959160371329, 1.8049296368911576e-05,
-       0.14701206011519244, 64},
-      {50, 0.60369268593083669, 0.56792381006008341, 0.0004536937989442491, 1.5150696823907508,
-       60}};
+  const Reference reference[] = {{1, 0.60588587143276451, 0.58689633019729581,
+                                  1.8045202766132177e-07, 0.0073656800212245138, 69},
+                                 {10, 0.60579630075232271, 0.58477959160371329,
+                                  1.8049296368911576e-05, 0.14701206011519244, 64},
+                                 {50, 0.60369268593083669, 0.56792381006008341,
+                                  0.0004536937989442491, 1.5150696823907508, 60}};
   const continuum::MultiRegimePoint point{continuum::MultiRegimeSettings{}};
   for (const auto& ref : reference) {
     auto control = pressure_control(1.0);
@@ -233,9 +229,10 @@ TEST(SimpleShearForceChainsPressure, FluidizedSkeletonEndsOnTheCollisionalOnlySt
   ASSERT_TRUE(r.steady.reached);
   EXPECT_TRUE(r.steady.fluidized);
   EXPECT_DOUBLE_EQ(r.steady.share_normal_force_chains, 0.0);
-  std::printf("fluidized: mu = %.15f, nu = %.15f, T = %.15g (slaved path: 0.60579630075232271, "
-              "0.58477959160371329, 1.8049296368911576e-05)\n",
-              r.steady.friction, r.steady.solid_fraction, r.steady.granular_temperature);
+  std::printf(
+      "fluidized: mu = %.15f, nu = %.15f, T = %.15g (slaved path: 0.60579630075232271, "
+      "0.58477959160371329, 1.8049296368911576e-05)\n",
+      r.steady.friction, r.steady.solid_fraction, r.steady.granular_temperature);
   EXPECT_NEAR(r.steady.friction / 0.60579630075232271, 1.0, 1e-7);
   EXPECT_NEAR(r.steady.solid_fraction / 0.58477959160371329, 1.0, 1e-8);
   EXPECT_NEAR(r.steady.granular_temperature / 1.8049296368911576e-05, 1.0, 1e-7);
