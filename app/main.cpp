@@ -2,8 +2,10 @@
 //   granflow run CASE.yaml [--out DIR] [--set key.path=value]... [--force]
 //   granflow check CASE.yaml [--set ...]
 //   granflow schema [--markdown]
+//   granflow study convergence|closures CASE.yaml ...
 // Under `mpirun -np N granflow run CASE.yaml` the conditions of a sweep are distributed over the
 // N ranks (core/sweep_scheduler.hpp, docs/parallel-runs.md); rank 0 writes the run directory.
+// `study closures` shares its closure combinations over the ranks the same way.
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -16,6 +18,9 @@
 
 #include "analysis/report.hpp"
 #include "app/registry.hpp"
+#ifdef GRANFLOW_HAVE_CALIBRATE_KIND
+#include "analysis/calibration/closure_study.hpp"
+#endif
 #include "core/case.hpp"
 #include "core/run.hpp"
 #include "core/sweep_scheduler.hpp"
@@ -115,6 +120,7 @@ int main(int argc, char** argv) {
       "  mpirun -np 2 granflow run cases/dem/dry_sweep.yaml --set dem.ranks=1   (a sweep on 2 "
       "cores)\n"
       "  granflow study convergence cases/mpm/rheometer_ci.yaml --vary mesh\n"
+      "  granflow study closures cases/calibrate/closure_study_dry.yaml   (mpirun -np N: shared)\n"
       "  granflow schema --markdown > docs/cases.md\n\n"
       "Case kinds (kind / test):\n" +
       kinds +
@@ -158,6 +164,18 @@ int main(int argc, char** argv) {
   convergence->add_option("--set", sets, "override a case key in every run: key.path=value")
       ->take_all();
   convergence->add_flag("--force", force, "replace an existing study directory");
+  auto* closures = study->add_subcommand(
+      "closures",
+      "calibrate every combination of the closures listed under `closures:` of a calibrate case "
+      "on the same DEM data, ranked by AIC (docs/calibration.md)");
+  closures->add_option("case", case_file, "kind: calibrate case with a closures: section")
+      ->required();
+  closures->add_option("--out", out_dir, "study directory (default runs/<case-name>_closures)");
+  closures->add_option("--set", sets, "override a case key: key.path=value (repeatable)")
+      ->take_all();
+  closures->add_flag("--force", force,
+                     "replace an existing study directory (only one this command made)");
+  closures->add_flag("--quiet", quiet, "only warnings and errors on the terminal");
   study->require_subcommand(1);
 
   auto* schema = cli.add_subcommand("schema", "print the reference of every case key");
@@ -165,8 +183,22 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(cli, argc, argv);
 
-  // Under mpirun only `run` uses the other ranks; anything else is done once, by rank 0.
-  if (ranks->rank() != 0 && !run->parsed()) return core::exit_ok;
+  // Under mpirun only `run` and `study closures` use the other ranks; anything else is done once,
+  // by rank 0.
+  if (ranks->rank() != 0 && !run->parsed() && !closures->parsed()) return core::exit_ok;
+
+  if (closures->parsed()) {
+#ifdef GRANFLOW_HAVE_CALIBRATE_KIND
+    const int code =
+        calibration::run_closure_study_command({case_file, out_dir, sets, force, quiet, true},
+                                               ranks->rank());
+    ranks->leave_run();  // every rank, so that none waits for one that stopped
+    return code;
+#else
+    std::cerr << "error: this granflow was built without kind: calibrate\n";
+    return core::exit_failure;
+#endif
+  }
 
   if (convergence->parsed()) {
     // The ladder is analysis/rheometer_study.py driving this same executable (one granflow run per

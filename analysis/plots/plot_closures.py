@@ -1,0 +1,71 @@
+#!/usr/bin/env python3
+"""closures.png of a `granflow study closures` directory (analysis/calibration/closure_study.cpp):
+the DEM points with their error bars (fitted: filled, held out: open) against the smooth steady
+predictions of the best three closure combinations (ranked by AIC) over I at the mean DEM σ_yy;
+panels μ, φ and T/(dγ̇)². Reads only STUDY_DIR/closures.h5, written by the C++.
+Usage: plot_closures.py STUDY_DIR"""
+import os
+import sys
+
+import h5py
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+PANELS = [
+    ("friction", "μ = τ/σ_yy"),
+    ("solid_fraction", "φ"),
+    ("scaled_temperature", "T / (d γ̇)²"),
+]
+STYLES = ["r-", "b--", "g-."]
+
+
+def text(value):
+    return value.decode() if isinstance(value, bytes) else str(value)
+
+
+def main(study):
+    with h5py.File(os.path.join(study, "closures.h5"), "r") as h5:
+        d = h5["data"]
+        I = d["inertial_number"][:]
+        train = d["training"][:] > 0.5
+        curves = h5["curves"]
+        grid = curves["inertial_number"][:]
+        count = int(curves.attrs["count"])
+        p = float(curves.attrs["normal_stress"])
+        fig, axes = plt.subplots(1, 3, figsize=(15, 4.6))
+        for ax, (name, label) in zip(axes, PANELS):
+            y, err = d[name][:], d[name + "_err"][:]
+            ax.errorbar(I[train], y[train], yerr=err[train], fmt="ko", ms=4, capsize=2,
+                        label="DEM (fitted)")
+            if np.any(~train):
+                ax.errorbar(I[~train], y[~train], yerr=err[~train], fmt="o", mfc="white",
+                            mec="k", ecolor="k", ms=5, capsize=2, label="DEM (held out)")
+            for rank in range(1, count + 1):
+                g = curves[str(rank)]
+                ax.plot(grid, g[name][:], STYLES[(rank - 1) % len(STYLES)],
+                        label="{}. {} (AIC {:.4g}, χ²_red {:.3g})".format(
+                            rank, text(g.attrs["label"]), float(g.attrs["aic"]),
+                            float(g.attrs["chi2_red"])))
+            ax.set_xscale("log")
+            if name == "scaled_temperature":
+                ax.set_yscale("log")
+            ax.set_xlabel("inertial number I")
+            ax.set_ylabel(label)
+            ax.grid(True, which="both", alpha=0.3)
+        fig.suptitle("Best closure combinations against the DEM (curves at σ_yy = {:.4g} Pa)"
+                     .format(p))
+        handles, labels = axes[0].get_legend_handles_labels()
+        fig.legend(handles, labels, loc="lower center", ncol=2, fontsize=8, frameon=False)
+        fig.tight_layout(rect=(0, 0.16, 1, 0.95))
+        out = os.path.join(study, "closures.png")
+        fig.savefig(out, dpi=120)
+        print(out)
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    main(sys.argv[1])

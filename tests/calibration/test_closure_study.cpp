@@ -1,0 +1,254 @@
+// `granflow study closures` (analysis/calibration/closure_study.hpp) on a DEM-schema dataset
+// written here from one known closure combination with known noise: that combination ranks
+// first by AIC with χ²_red ≈ 1, the parameters that do not act are reported as not fitted, the
+// CSV has one row per combination, bad closures are located errors (exit 2), --force replaces
+// only marked study directories, and the shipped option set runs in under 60 s.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "analysis/calibration/closure_study.hpp"
+#include "core/run.hpp"
+#include "tests/calibration/synthetic_data.hpp"
+
+namespace granflow::calibration {
+namespace {
+
+namespace fs = std::filesystem;
+const fs::path work = fs::path(GRANFLOW_BINARY_DIR) / "test_closure_study";
+const fs::path shipped = fs::path(GRANFLOW_SOURCE_DIR) / "cases/calibrate/closure_study_dry.yaml";
+
+// 12 conditions I ≈ 0.01-0.3 at σ_yy = 100 Pa from kinetic theory alone with the default
+// closures (g0 Chialvo-Sundaresan, L = d, ε Chialvo-Sundaresan): e_r = 0.8, ν_c = 0.60.
+fs::path truth_data() {
+  const auto truth = testing::dry_model(0.8, 0.60);
+  return testing::write_dem_dataset(testing::synthetic_points(truth, 7, 12),
+                                    work / "dem_synthetic.h5");
+}
+
+std::vector<std::map<std::string, std::string>> read_csv(const fs::path& file) {
+  std::ifstream in(file);
+  std::vector<std::map<std::string, std::string>> rows;
+  std::vector<std::string> header;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> cells;
+    std::string cell;
+    bool quoted = false;
+    for (char ch : line) {
+      if (ch == '"') quoted = !quoted;
+      else if (ch == ',' && !quoted) cells.push_back(std::exchange(cell, ""));
+      else cell += ch;
+    }
+    cells.push_back(cell);
+    if (header.empty()) {
+      header = cells;
+      continue;
+    }
+    EXPECT_EQ(cells.size(), header.size()) << line;
+    std::map<std::string, std::string> row;
+    for (std::size_t j = 0; j < header.size() && j < cells.size(); ++j) row[header[j]] = cells[j];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(ClosureStudy, InformationCriteria) {
+  EXPECT_DOUBLE_EQ(akaike(10.0, 3), 16.0);                      // χ² + 2k
+  EXPECT_DOUBLE_EQ(akaike_corrected(10.0, 3, 18), 16.0 + 24.0 / 14.0);  // + 2k(k+1)/(n-k-1)
+  EXPECT_TRUE(std::isnan(akaike_corrected(1.0, 3, 4)));
+}
+
+TEST(ClosureStudy, ShippedOptionSetRanksTheTrueCombinationFirst) {
+  const auto data = truth_data();
+  const auto dir = work / "study";
+  fs::remove_all(dir);
+  ClosureStudyCommand command;
+  command.case_file = shipped;
+  command.out_dir = dir;
+  command.overrides = {"data.files=" + data.string()};
+  command.quiet = true;
+  const auto t0 = std::chrono::steady_clock::now();
+  ASSERT_EQ(run_closure_study_command(command, 0), core::exit_ok);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::cout << fmt::format("[ closures ] shipped option set, 12 combinations, 12 points: {:.2f} s\n",
+                           seconds);
+  EXPECT_LT(seconds, 60.0);
+
+  const auto rows = read_csv(dir / "closures.csv");
+  ASSERT_EQ(rows.size(), 12u);  // 3 g0 × 2 L × force chains on/off
+  const auto& best = rows.front();
+  EXPECT_EQ(best.at("rank"), "1");
+  EXPECT_EQ(best.at("collisional.radial_distribution"), "chialvo_sundaresan");
+  EXPECT_EQ(best.at("force_chains.enabled"), "false");
+  EXPECT_EQ(best.at("k"), "2");
+  // 6 training points × 3 observables - 2 parameters = 16 dof: sd of χ²_red 0.35.
+  EXPECT_NEAR(std::stod(best.at("chi2_red")), 1.0, 0.9);
+  EXPECT_EQ(best.at("inside_domain"), "1");
+  // Ranked by AIC: non-decreasing down the table, and AIC = χ² + 2k in every row.
+  double previous = -INFINITY;
+  for (const auto& row : rows) {
+    if (row.at("aic").empty()) continue;  // a failed fit ranks last
+    const double aic = std::stod(row.at("aic"));
+    EXPECT_GE(aic, previous);
+    previous = aic;
+    EXPECT_NEAR(aic, std::stod(row.at("chi2")) + 2 * std::stod(row.at("k")), 1e-6 * aic);
+    // The critical-state parameters act only with the force chains on.
+    if (row.at("force_chains.enabled") == "false") {
+      EXPECT_EQ(row.at("dropped"), "critical_void_ratio;critical_stress_ratio;critical_state_slope");
+      EXPECT_TRUE(row.at("critical_void_ratio").empty());
+    } else {
+      EXPECT_EQ(row.at("dropped"), "");
+      EXPECT_EQ(row.at("k"), "5");
+    }
+  }
+  // A model nested in the truth's twin with force chains: more parameters, no better AIC.
+  const std::string report = slurp(dir / "report.md");
+  EXPECT_NE(report.find("`critical_void_ratio` is not fitted in 6 of 12 combinations"),
+            std::string::npos)
+      << report;
+  EXPECT_NE(report.find("## Best model"), std::string::npos);
+  const auto summary = core::Summary::read(dir / "study.json");
+  EXPECT_EQ(summary.get("study.combinations"), 12);
+  EXPECT_EQ(summary.get("study.points"), 12);
+  EXPECT_EQ(summary.get("study.holdout_points"), 6);
+  EXPECT_EQ(summary.get("rank.1"), std::stod(best.at("combination")));
+  EXPECT_TRUE(fs::exists(dir / "closures.h5"));
+  EXPECT_TRUE(fs::exists(dir / closure_study_marker));
+  EXPECT_FALSE(fs::exists(dir / "result.h5"));
+  if (fs::exists("/usr/bin/python3")) {
+    EXPECT_TRUE(fs::exists(dir / "closures.png"));
+  }
+  const std::string json = slurp(dir / "study.json");
+  EXPECT_EQ(json.find("nan"), std::string::npos);
+  EXPECT_EQ(json.find("inf"), std::string::npos);
+
+  // The directory exists now: refused without --force, replaced with it (it has the marker).
+  command.plot = false;
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(run_closure_study_command(command, 0), core::exit_bad_input);
+  EXPECT_NE(::testing::internal::GetCapturedStderr().find("pass --force"), std::string::npos);
+}
+
+TEST(ClosureStudy, ForceReplacesOnlyMarkedDirectories) {
+  const auto data = truth_data();
+  const auto dir = work / "not_a_study";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "precious.txt") << "keep me\n";
+  ClosureStudyCommand command;
+  command.case_file = shipped;
+  command.out_dir = dir;
+  command.overrides = {"data.files=" + data.string()};
+  command.force = true;
+  command.quiet = true;
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(run_closure_study_command(command, 0), core::exit_bad_input);
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find(".granflow-study"), std::string::npos) << err;
+  EXPECT_TRUE(fs::exists(dir / "precious.txt"));
+}
+
+// One closures entry in an otherwise valid case; returns the error text (empty if none).
+std::string error_of(const std::string& closures_line, int& line) {
+  fs::create_directories(work);
+  const auto file = work / "bad.yaml";
+  std::ofstream(file) << "kind: calibrate\n"
+                         "material: {diameter: 1.0e-3, particle_density: 2500, restitution: 0.7}\n"
+                         "data: {files: none.h5, observables: friction}\n"
+                         "fit: {parameters: restitution jamming_fraction}\n"
+                         "closures:\n"
+                         "  collisional.correlation_length: [diameter, jenkins]\n"
+                      << "  " << closures_line << "\n";
+  line = 7;
+  try {
+    load_closure_study(file, {});
+  } catch (const core::CaseError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ClosureStudy, BadClosuresAreLocatedErrors) {
+  int line = 0;
+  std::string e = error_of("collisional.radial_distribution: [torquato, percus_yevick]", line);
+  EXPECT_EQ(e.rfind(fmt::format("{}:{}: closures.collisional.radial_distribution[1]: expected one "
+                                "of: carnahan_starling, torquato, chialvo_sundaresan; got "
+                                "'percus_yevick'",
+                                (work / "bad.yaml").string(), line),
+                    0),
+            0u)
+      << e;
+  e = error_of("collisional.radial_distributon: [torquato]", line);
+  EXPECT_NE(e.find(fmt::format("bad.yaml:{}: closures.collisional.radial_distributon: expected a "
+                               "choice or boolean key path",
+                               line)),
+            std::string::npos)
+      << e;
+  e = error_of("material.restitution: [0.5, 0.7]", line);
+  EXPECT_NE(e.find(fmt::format("bad.yaml:{}: closures.material.restitution: expected a choice or "
+                               "boolean key (material.restitution is a number",
+                               line)),
+            std::string::npos)
+      << e;
+  e = error_of("force_chains.enabled: [true, maybe]", line);
+  EXPECT_NE(e.find("closures.force_chains.enabled[1]: expected true or false; got 'maybe'"),
+            std::string::npos)
+      << e;
+  EXPECT_EQ(error_of("force_chains.enabled: [true, false]", line), "");  // valid: 4 combinations
+
+  // The command: one line on stderr, exit 2, before anything runs (no study directory).
+  error_of("collisional.radial_distribution: [torquato, percus_yevick]", line);
+  ClosureStudyCommand command;
+  command.case_file = work / "bad.yaml";
+  command.out_dir = work / "bad_study";
+  fs::remove_all(command.out_dir);
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(run_closure_study_command(command, 0), core::exit_bad_input);
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_EQ(err.rfind("error: " + (work / "bad.yaml").string() + ":7: ", 0), 0u) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  EXPECT_FALSE(fs::exists(command.out_dir));
+}
+
+TEST(ClosureStudy, DropsParametersThatDoNotAct) {
+  const auto data = truth_data();
+  fs::create_directories(work);
+  const auto file = work / "drop.yaml";
+  std::ofstream(file) << "kind: calibrate\n"
+                         "material: {diameter: 1.0e-3, particle_density: 2500, restitution: 0.7}\n"
+                         "data: {files: '"
+                      << data.string()
+                      << "', observables: friction solid_fraction}\n"
+                         "fit: {parameters: restitution jamming_fraction "
+                         "correlation_length_constant}\n"
+                         "force_chains: {enabled: false}\n"
+                         "closures:\n"
+                         "  collisional.correlation_length: [diameter, jenkins]\n";
+  const auto study = load_closure_study(file, {});
+  ASSERT_EQ(study.combinations.size(), 2u);
+  EXPECT_EQ(study.combinations[0].label, "correlation_length=diameter");
+  EXPECT_EQ(study.combinations[0].dropped, std::vector<std::string>{"correlation_length_constant"});
+  EXPECT_EQ(study.combinations[1].parameters.size(), 3u);
+  EXPECT_TRUE(study.combinations[1].dropped.empty());
+  EXPECT_EQ(study.combinations[0].run_case->string("fit.parameters"),
+            "restitution jamming_fraction");
+}
+
+}  // namespace
+}  // namespace granflow::calibration
