@@ -73,11 +73,16 @@ core::Schema calibrate_schema() {
              "correlation_length_constant, liquid_viscosity_factor, "
              "fluctuation_dissipation_factor; with force_chains on also critical_void_ratio, "
              "critical_state_slope, critical_state_exponent, critical_stress_ratio, "
-             "contact_production")
+             "contact_production, friction_rise, friction_rise_I0")
       .required();
   fit.integer("max_evaluations", "largest number of residual evaluations of Levenberg-Marquardt")
       .default_value("4000")
       .at_least(10);
+  fit.integer("starts",
+              "number of starting points: the case's values and starts - 1 drawn around them "
+              "(reproducible); the smallest χ² wins")
+      .default_value("1")
+      .at_least(1);
   fit.number("fluctuation_dissipation_factor", "", "starting (or fixed) factor on Λ")
       .default_value("1")
       .greater_than(0);
@@ -113,8 +118,8 @@ void check_calibrate_case(const core::Case& c) {
     if (key.rfind("force_chains.", 0) == 0 && !c.boolean("force_chains.enabled"))
       c.fail("fit.parameters",
              fmt::format("'{}' is a force-chain parameter: needs force_chains.enabled: true", name));
-    if (name == "contact_production" && !c.boolean("force_chains.enabled"))
-      c.fail("fit.parameters", "contact_production needs force_chains.enabled: true");
+    if (key.rfind("steady.", 0) == 0 && !c.boolean("force_chains.enabled"))
+      c.fail("fit.parameters", fmt::format("'{}' needs force_chains.enabled: true", name));
     if (name == "fluctuation_dissipation_factor" && !c.boolean("liquid.fluctuation_dissipation"))
       c.fail("fit.parameters",
              "fluctuation_dissipation_factor needs liquid.fluctuation_dissipation: true");
@@ -141,6 +146,8 @@ int run_calibrate_case(core::RunContext& ctx) {
   start.reference_liquid_viscosity = start.settings.liquid_parameters.viscosity;
   start.factors.fluctuation_dissipation = c.number("fit.fluctuation_dissipation_factor");
   start.factors.contact_production = c.number("steady.contact_production");
+  start.factors.friction_rise = c.number("steady.friction_rise");
+  start.factors.friction_rise_I0 = c.number("steady.friction_rise_I0");
   log.info("forward model: {}",
            start.settings.force_chains
                ? fmt::format("in-parallel steady state (force chains on the critical state, μ_FC "
@@ -221,7 +228,8 @@ int run_calibrate_case(core::RunContext& ctx) {
            c.string("fit.parameters"), training.size(), holdout.size(),
            c.string("data.observables"));
   const FitResult r =
-      fit(start, names, training, observables, static_cast<int>(c.integer("fit.max_evaluations")));
+      fit(start, names, training, observables, static_cast<int>(c.integer("fit.max_evaluations")),
+          static_cast<int>(c.integer("fit.starts")));
   const CalibratedModel calibrated = apply(start, names, r.estimate);
   if (!r.inside_domain) {
     std::string walls;

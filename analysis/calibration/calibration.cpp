@@ -6,6 +6,7 @@
 #include <Eigen/SVD>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <stdexcept>
 
 #include "analysis/least_squares.hpp"
@@ -37,6 +38,10 @@ const std::vector<ParameterSpec>& parameter_specs() {
        "M_c, the Lade-Duncan ratio q/p in compression (simple shear: μ_FC = M(θ=0)/√3)"},
       {"contact_production", "steady.contact_production", 0.0, 1.0,
        "α_FC, fraction of τ_FC γ̇ fed to T (granflow's own term; start it above 0)"},
+      {"friction_rise", "steady.friction_rise", 0.0, 2.0,
+       "Δμ_FC of μ_FC(I) = μ_cs + Δμ_FC/(1 + I_0/I) (granflow's own; start it above 0)"},
+      {"friction_rise_I0", "steady.friction_rise_I0", 1e-3, 10.0,
+       "I_0 of the force chains' friction rise"},
   };
   return specs;
 }
@@ -63,6 +68,8 @@ double parameter_value(const CalibratedModel& m, const std::string& name) {
   if (name == "critical_state_exponent") return fc.xi_c;
   if (name == "critical_stress_ratio") return fc.M_c;
   if (name == "contact_production") return m.factors.contact_production;
+  if (name == "friction_rise") return m.factors.friction_rise;
+  if (name == "friction_rise_I0") return m.factors.friction_rise_I0;
   return parameter_spec(name).lower;  // throws for unknown names
 }
 
@@ -88,6 +95,10 @@ void set_parameter(CalibratedModel& m, const std::string& name, double value) {
     m.settings.force_chain_parameters.M_c = value;
   else if (name == "contact_production")
     m.factors.contact_production = value;
+  else if (name == "friction_rise")
+    m.factors.friction_rise = value;
+  else if (name == "friction_rise_I0")
+    m.factors.friction_rise_I0 = value;
   else
     parameter_spec(name);  // throws
 }
@@ -207,9 +218,45 @@ CalibratedModel apply(const CalibratedModel& start, const std::vector<std::strin
   return m;
 }
 
+namespace {
+FitResult fit_from(const CalibratedModel& start, const std::vector<std::string>& names,
+                   const std::vector<DataPoint>& data, const std::vector<Observable>& observables,
+                   int max_evaluations);
+}  // namespace
+
 FitResult fit(const CalibratedModel& start, const std::vector<std::string>& names,
               const std::vector<DataPoint>& data, const std::vector<Observable>& observables,
-              int max_evaluations) {
+              int max_evaluations, int starts) {
+  FitResult best = fit_from(start, names, data, observables, max_evaluations);
+  std::mt19937 rng(20261201u);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (int k = 1; k < starts; ++k) {
+    CalibratedModel moved = start;
+    for (const auto& name : names) {
+      const ParameterSpec& spec = parameter_spec(name);
+      const auto bounds = analysis::ParameterBounds::between(spec.lower, spec.upper);
+      const double u = analysis::unconstrained_parameter(parameter_value(start, name), bounds);
+      set_parameter(moved, name, analysis::bounded_parameter(u + normal(rng), bounds));
+    }
+    FitResult trial;
+    try {
+      trial = fit_from(moved, names, data, observables, max_evaluations);
+    } catch (const std::exception&) {
+      continue;  // a start where the model carries no condition at all
+    }
+    if (trial.chi2 < best.chi2) {
+      trial.initial = best.initial;  // report the user's start
+      trial.chi2_initial = best.chi2_initial;
+      best = trial;
+    }
+  }
+  return best;
+}
+
+namespace {
+FitResult fit_from(const CalibratedModel& start, const std::vector<std::string>& names,
+                   const std::vector<DataPoint>& data, const std::vector<Observable>& observables,
+                   int max_evaluations) {
   FitResult out;
   out.names = names;
   const int n = static_cast<int>(names.size());
@@ -292,6 +339,7 @@ FitResult fit(const CalibratedModel& start, const std::vector<std::string>& name
   }
   return out;
 }
+}  // namespace
 
 double mean_relative_error(const CalibratedModel& model, const std::vector<DataPoint>& data,
                            Observable observable) {

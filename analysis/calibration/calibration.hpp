@@ -100,9 +100,12 @@ struct FitResult {
 
 // Fits `names` (each in parameter_specs()) starting from `start`, over `data` and `observables`.
 // Throws std::invalid_argument with fewer residuals than parameters.
+// starts > 1: also from starts - 1 starting points drawn around `start` (each parameter's
+// logistic coordinate u moved by a standard normal draw, fixed seed, so reproducible), keeping
+// the fit with the smallest χ²: a guard against the local minima of nonlinear models.
 FitResult fit(const CalibratedModel& start, const std::vector<std::string>& names,
               const std::vector<DataPoint>& data, const std::vector<Observable>& observables,
-              int max_evaluations = 4000);
+              int max_evaluations = 4000, int starts = 1);
 CalibratedModel apply(const CalibratedModel& start, const std::vector<std::string>& names,
                       const Eigen::VectorXd& values);
 

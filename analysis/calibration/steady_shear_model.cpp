@@ -131,7 +131,12 @@ SteadyShearState steady_simple_shear(const continuum::MultiRegimeSettings& setti
   const auto& p = settings.collisional_parameters;
   const double rho_p = p.particle_density, d = p.diameter;
   const double nu_max = model::maximum_solid_fraction(p);
-  const double mu_fc = chains ? critical_state_friction(fc) : 0.0;
+  // μ_FC: the critical state's, plus the optional rise with the imposed condition's I.
+  const double imposed_I = shear_rate * d / std::sqrt(normal_stress / rho_p);
+  const double mu_fc =
+      chains ? critical_state_friction(fc) +
+                   factors.friction_rise / (1.0 + factors.friction_rise_I0 / imposed_I)
+             : 0.0;
   const double production_per_pressure =
       chains ? factors.contact_production * mu_fc * shear_rate / rho_p : 0.0;
   const auto skeleton = [&](double nu) { return chains ? critical_state_pressure(fc, nu) : 0.0; };

@@ -27,7 +27,8 @@
 // optionally with a production by the contacts α_FC τ_FC γ̇ (granflow's own, off by default):
 //     d f2 γ̇² + W/s = f3 s³ / (d max(s, a)) + λ s,   W = α_FC μ_FC p_FC γ̇ / ρ_p,
 // whose left side falls and right side rises with s: one root, by safeguarded Newton.
-// μ = (μ_FC p_FC + ρ_p d f2 s γ̇ + η(ν) γ̇) / p. As γ̇ -> 0, T -> 0 and the state tends to the
+// μ = (μ_FC p_FC + ρ_p d f2 s γ̇ + η(ν) γ̇) / p, μ_FC rate independent unless friction_rise > 0
+// (ModelFactors). As γ̇ -> 0, T -> 0 and the state tends to the
 // critical state of the skeleton: e = e_cs(p), μ = μ_FC.
 //
 // Why not rev::run_simple_shear inside the fit: it time-steps to a relative change of 1e-10 per
@@ -50,6 +51,13 @@ struct ModelFactors {
   // (steady.contact_production; granflow's own, 0 = the seed's model, where only σ_COL : D
   // produces T).
   double contact_production = 0.0;
+  // Rise of the force chains' friction with the inertial number (steady.friction_rise,
+  // steady.friction_rise_I0; granflow's own extension, 0 = the seed's rate-independent skeleton):
+  //   μ_FC(I) = M(θ=0)/√3 + Δμ_FC / (1 + I_0/I),  I = γ̇ d / sqrt(p/ρ_p) of the imposed p,
+  // the form of the μ(I) law of GDR MiDi (2004) and Jop, Forterre & Pouliquen (2006) applied to
+  // the contact network alone.
+  double friction_rise = 0.0;
+  double friction_rise_I0 = 0.3;
 };
 
 struct SteadyShearState {

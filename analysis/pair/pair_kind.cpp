@@ -140,7 +140,8 @@ void check_pair_case(const core::Case& c) {
     if (name == "none") continue;
     try {
       const auto& spec = calibration::parameter_spec(name);
-      if (spec.case_key.rfind("force_chains.", 0) == 0 && !c.boolean("force_chains.enabled"))
+      if ((spec.case_key.rfind("force_chains.", 0) == 0 || spec.case_key.rfind("steady.", 0) == 0) &&
+          !c.boolean("force_chains.enabled"))
         c.fail("calibrate.parameters",
                fmt::format("'{}' is a force-chain parameter: needs force_chains.enabled: true",
                            name));
@@ -190,6 +191,8 @@ int run_pair_case(core::RunContext& ctx) {
   calibration::CalibratedModel model;
   model.settings = continuum::read_multi_regime_settings(c);
   model.factors.contact_production = c.number("steady.contact_production");
+  model.factors.friction_rise = c.number("steady.friction_rise");
+  model.factors.friction_rise_I0 = c.number("steady.friction_rise_I0");
   // Wet rows carry their own η0; the case's viscosity is the reference (factor 1).
   model.reference_liquid_viscosity = model.settings.liquid_parameters.viscosity;
   // The comparison model: kinetic theory alone (the same sections, force chains off).

@@ -168,6 +168,15 @@ core::Field steady_section() {
       .default_value("0")
       .at_least(0)
       .at_most(1);
+  s.number("friction_rise", "",
+           "Δμ_FC: rise of the force chains' friction with I, μ_FC(I) = μ_cs + Δμ_FC/(1 + I_0/I) "
+           "(granflow's own extension after the μ(I) law of GDR MiDi 2004; 0 = the seed's "
+           "rate-independent skeleton)")
+      .default_value("0")
+      .at_least(0);
+  s.number("friction_rise_I0", "", "I_0 of the force chains' friction rise")
+      .default_value("0.3")
+      .greater_than(0);
   return s;
 }
 
