@@ -1,29 +1,22 @@
 #include "analysis/calibration/closure_study.hpp"
 
-#include <fcntl.h>
+// `granflow study closures`: validation, data, the fits shared over the ranks (closure_study.hpp).
 #include <fmt/format.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iostream>
-#include <map>
 #include <set>
 #include <sstream>
 
 #include "analysis/calibration/calibrate_kind.hpp"
 #include "continuum/multi_regime/model_sections.hpp"
-#include "core/result_file.hpp"
 #include "core/run.hpp"
 #include "core/sweep_scheduler.hpp"
-
-extern char** environ;
 
 namespace granflow::calibration {
 
@@ -92,15 +85,6 @@ std::vector<std::string> short_names(const std::vector<std::string>& keys) {
   return out;
 }
 
-CalibratedModel start_model(const core::Case& c) {
-  CalibratedModel start;
-  start.settings = continuum::read_multi_regime_settings(c);
-  start.reference_liquid_viscosity = start.settings.liquid_parameters.viscosity;
-  start.factors.fluctuation_dissipation = c.number("fit.fluctuation_dissipation_factor");
-  start.factors.contact_production = c.number("steady.contact_production");
-  return start;
-}
-
 fs::path resolve_data_path(const core::Case& c, const std::string& name) {
   const fs::path p(name);
   if (p.is_absolute() || fs::exists(p)) return p;
@@ -111,6 +95,15 @@ fs::path resolve_data_path(const core::Case& c, const std::string& name) {
 }
 
 }  // namespace
+
+CalibratedModel start_model(const core::Case& c) {
+  CalibratedModel start;
+  start.settings = continuum::read_multi_regime_settings(c);
+  start.reference_liquid_viscosity = start.settings.liquid_parameters.viscosity;
+  start.factors.fluctuation_dissipation = c.number("fit.fluctuation_dissipation_factor");
+  start.factors.contact_production = c.number("steady.contact_production");
+  return start;
+}
 
 std::string dropped_because(const std::string& name, const core::Case& c) {
   const std::string& key = parameter_spec(name).case_key;
@@ -197,7 +190,7 @@ ClosureStudy load_closure_study(const fs::path& file, const std::vector<std::str
     if (std::find(study.keys.begin(), study.keys.end(), key) != study.keys.end())
       located(file, line, path, "each key once");
     if (user_keys.count(key))
-      located(file, line, path, "no --set of a key the study varies (--set " + key + "=...)");
+      located(file, line, path, "a key not also set on the command line (--set " + key + "=...)");
     const bool boolean = field->type() == core::ValueType::boolean;
     const std::string expected =
         boolean ? std::string("true or false") : field->expectation();
@@ -247,7 +240,8 @@ ClosureStudy load_closure_study(const fs::path& file, const std::vector<std::str
     } catch (const std::invalid_argument& e) {
       base.fail("data.observables", e.what());
     }
-  const auto names = short_names(study.keys);
+  study.short_keys = short_names(study.keys);
+  const auto& names = study.short_keys;
   std::size_t count = 1;
   for (const auto& values : study.options) count *= values.size();
   for (std::size_t n = 0; n < count; ++n) {
@@ -386,6 +380,7 @@ ClosureFit fit_combination(const ClosureStudy& study, std::size_t index, const S
       out.holdout_rel_err.push_back(mean_relative_error(calibrated, data.holdout, o));
       out.train_rel_err.push_back(mean_relative_error(calibrated, data.training, o));
     }
+    for (const auto& point : data.used) out.no_steady_state += predict(calibrated, point).ok ? 0 : 1;
   } catch (const std::exception& e) {
     out.ok = false;
     out.error = e.what();
@@ -399,7 +394,8 @@ std::string pack(const ClosureFit& f) {
   core::Packer p;
   p.integer(f.ok).text(f.error).numbers(f.estimate).numbers(f.standard_error).numbers(f.at_bound);
   p.number(f.chi2).number(f.chi2_red).number(f.aic).number(f.aicc);
-  for (const int v : {f.k, f.dof, f.residuals, f.evaluations, f.status}) p.integer(v);
+  for (const int v : {f.k, f.dof, f.residuals, f.evaluations, f.status, f.no_steady_state})
+    p.integer(v);
   p.integer(f.identifiable).integer(f.inside_domain);
   p.numbers(f.holdout_rel_err).numbers(f.train_rel_err);
   return p.take();
@@ -413,315 +409,14 @@ ClosureFit unpack(const std::string& bytes) {
   f.estimate = u.numbers();
   f.standard_error = u.numbers();
   f.at_bound = u.numbers();
-  f.chi2 = u.number();
-  f.chi2_red = u.number();
-  f.aic = u.number();
-  f.aicc = u.number();
-  for (int* v : {&f.k, &f.dof, &f.residuals, &f.evaluations, &f.status})
+  for (double* v : {&f.chi2, &f.chi2_red, &f.aic, &f.aicc}) *v = u.number();
+  for (int* v : {&f.k, &f.dof, &f.residuals, &f.evaluations, &f.status, &f.no_steady_state})
     *v = static_cast<int>(u.integer());
   f.identifiable = u.integer() != 0;
   f.inside_domain = u.integer() != 0;
   f.holdout_rel_err = u.numbers();
   f.train_rel_err = u.numbers();
   return f;
-}
-
-std::string num(double v, const char* format = "{:.6g}") {
-  return std::isfinite(v) ? fmt::format(fmt::runtime(format), v) : std::string();
-}
-
-std::string csv_text(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
-  return q + "\"";
-}
-
-struct Outputs {
-  const ClosureStudy& study;
-  const StudyData& data;
-  const std::vector<ClosureFit>& fits;
-  std::vector<std::size_t> order;
-  std::vector<double> delta, weight;  // ΔAIC to the best, Akaike weight
-  double wall_s = 0;
-};
-
-// Akaike weights w_i = exp(-Δ_i/2) / Σ_j exp(-Δ_j/2), Δ_i = AIC_i - min AIC (Burnham & Anderson
-// 2002, §2.9): the relative likelihood of each combination given the set.
-void weigh(Outputs& o) {
-  o.delta.assign(o.fits.size(), NAN);
-  o.weight.assign(o.fits.size(), NAN);
-  const double best = o.fits.empty() ? NAN : o.fits[o.order.front()].aic;
-  double sum = 0;
-  for (std::size_t i = 0; i < o.fits.size(); ++i)
-    if (o.fits[i].ok && std::isfinite(o.fits[i].aic)) {
-      o.delta[i] = o.fits[i].aic - best;
-      sum += std::exp(-o.delta[i] / 2);
-    }
-  for (std::size_t i = 0; i < o.fits.size(); ++i)
-    if (std::isfinite(o.delta[i])) o.weight[i] = std::exp(-o.delta[i] / 2) / sum;
-}
-
-std::string observable(Observable o) { return observable_names()[static_cast<int>(o)]; }
-
-void write_csv(const Outputs& o, const fs::path& file) {
-  const auto& s = o.study;
-  std::ofstream out(file);
-  out << "rank,combination";
-  for (const auto& key : s.keys) out << "," << key;
-  out << ",k,parameters,dropped";
-  for (const auto& p : s.parameters) out << "," << p << "," << p << "_err";
-  out << ",chi2,chi2_red,dof,residuals,aic,aicc,delta_aic,akaike_weight";
-  for (const auto ob : s.observables) out << ",holdout_rel_err_" << observable(ob);
-  for (const auto ob : s.observables) out << ",train_rel_err_" << observable(ob);
-  out << ",inside_domain,identifiable,status,evaluations,error\n";
-  for (std::size_t r = 0; r < o.order.size(); ++r) {
-    const std::size_t i = o.order[r];
-    const auto& comb = s.combinations[i];
-    const auto& f = o.fits[i];
-    out << r + 1 << "," << i;
-    for (const auto& v : comb.values) out << "," << v;
-    out << "," << f.k << "," << join(comb.parameters, ";") << "," << join(comb.dropped, ";");
-    for (const auto& p : s.parameters) {
-      const auto at = std::find(comb.parameters.begin(), comb.parameters.end(), p);
-      const auto j = static_cast<std::size_t>(at - comb.parameters.begin());
-      const bool have = at != comb.parameters.end() && j < f.estimate.size();
-      out << "," << (have ? num(f.estimate[j], "{:.10g}") : "") << ","
-          << (have ? num(f.standard_error[j], "{:.4g}") : "");
-    }
-    out << "," << num(f.chi2, "{:.10g}") << "," << num(f.chi2_red, "{:.10g}") << "," << f.dof
-        << "," << f.residuals << "," << num(f.aic, "{:.10g}") << "," << num(f.aicc, "{:.10g}")
-        << "," << num(o.delta[i], "{:.10g}") << "," << num(o.weight[i], "{:.4g}");
-    for (const double v : f.holdout_rel_err) out << "," << num(v);
-    for (std::size_t k = f.holdout_rel_err.size(); k < s.observables.size(); ++k) out << ",";
-    for (const double v : f.train_rel_err) out << "," << num(v);
-    for (std::size_t k = f.train_rel_err.size(); k < s.observables.size(); ++k) out << ",";
-    out << "," << (f.ok ? int(f.inside_domain) : 0) << "," << (f.ok ? int(f.identifiable) : 0)
-        << "," << f.status << "," << f.evaluations << "," << csv_text(f.error) << "\n";
-  }
-}
-
-void write_json(const Outputs& o, const fs::path& file) {
-  const auto& s = o.study;
-  core::Summary sum;  // flat name: number, NaN/Inf written as null
-  sum.set("study.combinations", static_cast<double>(s.combinations.size()));
-  sum.set("study.points", static_cast<double>(o.data.used.size()));
-  sum.set("study.training_points", static_cast<double>(o.data.training.size()));
-  sum.set("study.holdout_points", static_cast<double>(o.data.holdout.size()));
-  sum.set("study.wall_s", o.wall_s);
-  sum.set("study.best", static_cast<double>(o.order.front()));
-  for (std::size_t r = 0; r < o.order.size(); ++r)
-    sum.set(fmt::format("rank.{}", r + 1), static_cast<double>(o.order[r]));
-  for (std::size_t i = 0; i < s.combinations.size(); ++i) {
-    const auto& comb = s.combinations[i];
-    const auto& f = o.fits[i];
-    const std::string p = fmt::format("combination.{}.", i);
-    const auto rank = std::find(o.order.begin(), o.order.end(), i) - o.order.begin() + 1;
-    sum.set(p + "rank", static_cast<double>(rank));
-    // options: the index of the value in the closures list of the key (booleans: 1 = true)
-    for (std::size_t j = 0; j < s.keys.size(); ++j) {
-      const auto& list = s.options[j];
-      const auto at = std::find(list.begin(), list.end(), comb.values[j]) - list.begin();
-      const bool flag = comb.values[j] == "true" || comb.values[j] == "false";
-      sum.set(p + "option." + s.keys[j],
-              flag ? (comb.values[j] == "true" ? 1.0 : 0.0) : static_cast<double>(at));
-    }
-    sum.set(p + "ok", f.ok ? 1 : 0);
-    sum.set(p + "k", f.k);
-    for (const auto& [key, v] : std::vector<std::pair<std::string, double>>{
-             {"chi2", f.chi2}, {"chi2_red", f.chi2_red}, {"dof", f.dof}, {"aic", f.aic},
-             {"aicc", f.aicc}, {"delta_aic", o.delta[i]}, {"akaike_weight", o.weight[i]}})
-      sum.set(p + key, f.ok ? v : NAN);
-    sum.set(p + "fit.inside_domain", f.ok && f.inside_domain ? 1 : 0);
-    sum.set(p + "fit.identifiable", f.ok && f.identifiable ? 1 : 0);
-    for (std::size_t j = 0; j < comb.parameters.size() && j < f.estimate.size(); ++j) {
-      sum.set(p + "fit." + comb.parameters[j], f.estimate[j]);
-      sum.set(p + "fit." + comb.parameters[j] + "_err", f.standard_error[j]);
-    }
-    for (std::size_t k = 0; k < f.holdout_rel_err.size(); ++k)
-      sum.set(p + "holdout.rel_err." + observable(s.observables[k]), f.holdout_rel_err[k]);
-  }
-  sum.write(file);
-}
-
-void write_report(const Outputs& o, const fs::path& file, bool have_plot) {
-  const auto& s = o.study;
-  const auto& base = *s.base;
-  const auto names = short_names(s.keys);
-  std::ofstream out(file);
-  out << "# Closure study: " << s.name << "\n\n"
-      << fmt::format("Case `{}`, data `{}`: {} points, {} fitted, {} held out (holdout.mode: {}); "
-                     "observables {}; fit.parameters `{}`. {} combinations in {:.1f} s.\n\n",
-                     s.file.string(), base.string("data.files"), o.data.used.size(),
-                     o.data.training.size(), o.data.holdout.size(), base.string("holdout.mode"),
-                     base.string("data.observables"), base.string("fit.parameters"),
-                     s.combinations.size(), o.wall_s)
-      << "Ranked by AIC = χ² + 2k (Akaike 1974; k fitted parameters, χ² with the DEM error "
-         "bars), ties by χ²_red. AICc = AIC + 2k(k+1)/(n−k−1), n residuals (Hurvich & Tsai "
-         "1989). ΔAIC to the best; weight = exp(−ΔAIC/2)/Σ (Burnham & Anderson 2002). "
-         "Held-out: mean |f − y|/|y| on the held-out points. inside: fit.inside_domain, "
-         "ident.: fit.identifiable.\n\n| rank |";
-  for (const auto& n : names) out << " " << n << " |";
-  out << " k | χ² | χ²_red | dof | AIC | AICc | ΔAIC | weight |";
-  for (const auto ob : s.observables) out << " held-out " << observable(ob) << " |";
-  out << " inside | ident. | not fitted |\n|";
-  for (std::size_t j = 0; j < names.size() + 12 + s.observables.size(); ++j) out << "---|";
-  out << "\n";
-  for (std::size_t r = 0; r < o.order.size(); ++r) {
-    const std::size_t i = o.order[r];
-    const auto& f = o.fits[i];
-    out << "| " << r + 1 << " |";
-    for (const auto& v : s.combinations[i].values) out << " " << v << " |";
-    out << fmt::format(" {} | {} | {} | {} | {} | {} | {} | {} |", f.k, num(f.chi2, "{:.4g}"),
-                       num(f.chi2_red, "{:.4g}"), f.dof, num(f.aic, "{:.5g}"),
-                       num(f.aicc, "{:.5g}"), num(o.delta[i], "{:.3g}"),
-                       num(o.weight[i], "{:.2g}"));
-    for (std::size_t k = 0; k < s.observables.size(); ++k)
-      out << " " << (k < f.holdout_rel_err.size() ? num(100 * f.holdout_rel_err[k], "{:.3g} %")
-                                                   : "")
-          << " |";
-    out << fmt::format(" {} | {} | {} |\n", f.ok && f.inside_domain ? "yes" : "**no**",
-                       f.ok && f.identifiable ? "yes" : "**no**",
-                       f.ok ? join(s.combinations[i].dropped, ", ") : "fit failed: " + f.error);
-  }
-  out << "\n## Parameters not fitted\n\n";
-  std::map<std::string, std::pair<std::string, int>> dropped;  // name -> (why, count)
-  for (const auto& comb : s.combinations)
-    for (const auto& p : comb.dropped) {
-      auto& entry = dropped[p];
-      entry.first = dropped_because(p, *comb.run_case);
-      ++entry.second;
-    }
-  if (dropped.empty()) out << "Every combination fits every parameter of fit.parameters.\n";
-  for (const auto& [p, why] : dropped)
-    out << fmt::format("- `{}` is not fitted in {} of {} combinations ({}); it keeps the case's "
-                       "value there and does not count in k.\n",
-                       p, why.second, s.combinations.size(), why.first);
-  const std::size_t best = o.order.front();
-  const auto& f = o.fits[best];
-  const auto& comb = s.combinations[best];
-  out << "\n## Best model\n\n" << comb.label << fmt::format(" (combination {}): ", best);
-  if (!f.ok) {
-    out << "no combination could be fitted.\n";
-    return;
-  }
-  out << fmt::format("χ² = {:.4g}, χ²_red = {:.4g} ({} dof), AIC = {:.5g}.\n\n", f.chi2,
-                     f.chi2_red, f.dof, f.aic)
-      << "| parameter | case key | estimate | standard error | on a bound |\n|---|---|---|---|---|\n";
-  for (std::size_t j = 0; j < comb.parameters.size(); ++j)
-    out << fmt::format("| {} | `{}` | {:.6g} | {} | {} |\n", comb.parameters[j],
-                       parameter_spec(comb.parameters[j]).case_key, f.estimate[j],
-                       num(f.standard_error[j], "{:.3g}"), f.at_bound[j] > 0 ? "yes" : "no");
-  if (have_plot)
-    out << "\n![The best three combinations against the DEM data](closures.png)\n";
-}
-
-// The DEM points and the smooth predictions of the best three combinations over I at the mean
-// DEM σ_yy (γ̇ = I √(σ_yy/ρ_p)/d), for plot_closures.py.
-void write_curves(const Outputs& o, const fs::path& file) {
-  const auto& s = o.study;
-  const auto& used = o.data.used;
-  core::ResultFile h5(file);
-  const auto column = [&](auto get) {
-    std::vector<double> v;
-    for (const auto& p : used) v.push_back(get(p));
-    return v;
-  };
-  const auto material = start_model(*s.base).settings.collisional_parameters;
-  const double d = material.diameter, rho = material.particle_density;
-  const auto inertial = [&](const DataPoint& p) {
-    return std::isfinite(p.inertial_number) && p.inertial_number > 0
-               ? p.inertial_number
-               : p.shear_rate * d / std::sqrt(p.normal_stress / rho);
-  };
-  h5.write("/data/inertial_number", column(inertial), "1", "DEM I");
-  h5.write("/data/normal_stress", column([](const DataPoint& p) { return p.normal_stress; }), "Pa",
-           "DEM σ_yy");
-  std::vector<double> training;
-  for (char held : o.data.held) training.push_back(held ? 0.0 : 1.0);
-  h5.write("/data/training", training, "1", "1: fitted, 0: held out");
-  for (int k = 0; k < observable_count; ++k) {
-    const std::string& n = observable_names()[k];
-    h5.write("/data/" + n, column([&](const DataPoint& p) { return p.value[k]; }), "1", "DEM " + n);
-    h5.write("/data/" + n + "_err", column([&](const DataPoint& p) { return p.error[k]; }), "1",
-             "DEM standard error of " + n);
-  }
-  double lo = INFINITY, hi = 0, p_mean = 0;
-  for (const auto& p : used) {
-    lo = std::min(lo, inertial(p));
-    hi = std::max(hi, inertial(p));
-    p_mean += p.normal_stress / static_cast<double>(used.size());
-  }
-  const int n_grid = 80;
-  std::vector<double> grid;
-  for (int g = 0; g < n_grid; ++g)
-    grid.push_back(lo / 1.5 * std::pow(hi * 1.5 / (lo / 1.5), g / double(n_grid - 1)));
-  h5.write("/curves/inertial_number", grid, "1", "I of the curves");
-  h5.attribute("/curves", "normal_stress", p_mean);
-  int written = 0;
-  for (std::size_t r = 0; r < o.order.size() && written < 3; ++r) {
-    const std::size_t i = o.order[r];
-    const auto& f = o.fits[i];
-    if (!f.ok) break;
-    const auto& comb = s.combinations[i];
-    const Eigen::VectorXd estimate =
-        Eigen::Map<const Eigen::VectorXd>(f.estimate.data(), Eigen::Index(f.estimate.size()));
-    const CalibratedModel m = apply(start_model(*comb.run_case), comb.parameters, estimate);
-    std::vector<std::vector<double>> curves(observable_count);
-    for (const double I : grid) {
-      DataPoint point;
-      point.shear_rate = I * std::sqrt(p_mean / rho) / d;
-      point.normal_stress = p_mean;
-      point.particle_friction = comb.run_case->has("data.particle_friction")
-                                    ? comb.run_case->number("data.particle_friction")
-                                    : NAN;
-      const auto state = predict(m, point);
-      for (int k = 0; k < observable_count; ++k)
-        curves[k].push_back(state.ok ? predicted(state, Observable(k)) : NAN);
-    }
-    const std::string group = fmt::format("/curves/{}", ++written);
-    for (int k = 0; k < observable_count; ++k)
-      h5.write(group + "/" + observable_names()[k], curves[k], "1",
-               "continuum steady " + observable_names()[k] + ", rank " + std::to_string(written));
-    h5.attribute(group, "label", comb.label);
-    h5.attribute(group, "aic", f.aic);
-    h5.attribute(group, "chi2_red", f.chi2_red);
-  }
-  h5.attribute("/curves", "count", static_cast<double>(written));
-  h5.flush();
-}
-
-// analysis/plots/plot_closures.py DIR, started from an argument vector (no shell), its output
-// appended to log.txt. False (and a warning) when it cannot run.
-bool run_plot(const fs::path& dir, spdlog::logger& log) {
-  const auto script = core::source_dir() / "analysis" / "plots" / "plot_closures.py";
-  if (!fs::exists(script)) {
-    log.warn("plot script {} not found; no closures.png", script.string());
-    return false;
-  }
-  std::vector<std::string> args = {core::python_interpreter(), script.string(), dir.string()};
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  const std::string log_file = (dir / "log.txt").string();
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, log_file.c_str(), O_WRONLY | O_APPEND | O_CREAT,
-                                   0644);
-  posix_spawn_file_actions_adddup2(&actions, 1, 2);
-  pid_t pid = 0;
-  const int rc = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  int status = 0;
-  if (rc == 0)
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
-  if (rc != 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    log.warn("{} {} failed (python3-matplotlib and python3-h5py installed?); data in closures.h5",
-             args[0], script.string());
-    return false;
-  }
-  return true;
 }
 
 }  // namespace
@@ -812,22 +507,16 @@ int run_closure_study_command(const ClosureStudyCommand& command, int rank) {
     for (const auto& note : data.notes) log.warn("{}", note);
     log.info("{} DEM points: {} fitted, {} held out; fit.parameters {}", data.used.size(),
              data.training.size(), data.holdout.size(), join(study.parameters, " "));
-    core::run_conditions(*ctx, count, compute, absorb);
-    Outputs out{study, data, fits, rank_fits(fits), {}, {}, 0};
-    weigh(out);
-    write_curves(out, dir / "closures.h5");
-    const bool plotted = command.plot && run_plot(dir, log);
-    out.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    write_csv(out, dir / "closures.csv");
-    write_json(out, dir / "study.json");
-    write_report(out, dir / "report.md", plotted);
-    for (std::size_t r = 0; r < std::min<std::size_t>(5, count); ++r) {
-      const auto& f = fits[out.order[r]];
-      log.info("rank {}: {}: k = {}, χ²_red = {}, AIC = {}", r + 1,
-               study.combinations[out.order[r]].label, f.k, num(f.chi2_red, "{:.4g}"),
-               num(f.aic, "{:.6g}"));
+    for (const auto& comb : study.combinations) {  // as pair and calibrate warn
+      const auto& m = start_model(*comb.run_case).settings;
+      if (m.force_chains && 1 / (1 + m.force_chain_parameters.e_Gamma) >=
+                                m.collisional_parameters.jamming_fraction)
+        log.warn("{}: 1/(1+e_Γ) ≥ ν_c at the start: the force chains carry no load and the fit "
+                 "cannot move them (start collisional.jamming_fraction above 1/(1+e_Γ))",
+                 comb.label);
     }
-    log.info("finished in {:.3f} s; results in {}", out.wall_s, dir.string());
+    core::run_conditions(*ctx, count, compute, absorb);
+    write_closure_study({study, data, fits, rank_fits(fits)}, dir, command.plot, log, started);
   } catch (const std::exception& e) {
     log.error("internal error: {}", e.what());
     code = core::exit_failure;

@@ -13,6 +13,9 @@
 // ranks (core/sweep_scheduler.hpp); rank 0 writes the study directory, identical to a serial run.
 #pragma once
 
+#include <spdlog/logger.h>
+
+#include <chrono>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -40,6 +43,7 @@ struct ClosureStudy {
   std::shared_ptr<const core::Schema> schema;  // the calibrate schema the cases refer to
   std::shared_ptr<const core::Case> base;      // the case without `closures:` (case.yaml)
   std::vector<std::string> keys;               // closures key paths, in file order
+  std::vector<std::string> short_keys;  // for tables: radial_distribution, force_chains, ...
   std::vector<std::vector<std::string>> options;  // values listed for each key
   std::vector<std::string> parameters;            // fit.parameters as written in the case
   std::vector<Observable> observables;            // data.observables
@@ -51,6 +55,9 @@ struct ClosureStudy {
 // core::CaseError "file:line: key.path: expected ..." before anything runs.
 ClosureStudy load_closure_study(const std::filesystem::path& file,
                                 const std::vector<std::string>& overrides);
+
+// The starting model of a calibrate case, as kind: calibrate builds it.
+CalibratedModel start_model(const core::Case& c);
 
 // Why a parameter does not act in a case ("" if it acts).
 std::string dropped_because(const std::string& parameter, const core::Case& c);
@@ -74,6 +81,7 @@ struct ClosureFit {
   double chi2 = NAN, chi2_red = NAN, aic = NAN, aicc = NAN;
   int k = 0, dof = 0, residuals = 0, evaluations = 0, status = 0;
   bool identifiable = false, inside_domain = false;
+  int no_steady_state = 0;  // used points (fitted or held out) the model cannot carry at the estimate
   std::vector<double> holdout_rel_err, train_rel_err;  // per ClosureStudy::observables
 };
 ClosureFit fit_combination(const ClosureStudy& study, std::size_t index, const StudyData& data);
@@ -84,6 +92,20 @@ double akaike(double chi2, int k);
 double akaike_corrected(double chi2, int k, int n);
 // Indices of `fits` ordered by AIC, then χ²_red, then index; failed fits last.
 std::vector<std::size_t> rank_fits(const std::vector<ClosureFit>& fits);
+
+// ---- outputs (closure_study_output.cpp)
+struct ClosureStudyResults {
+  const ClosureStudy& study;
+  const StudyData& data;
+  const std::vector<ClosureFit>& fits;  // per combination
+  std::vector<std::size_t> order;       // rank_fits(fits)
+};
+// closures.h5 (DEM points, smooth curves of the best three distinct combinations over I at the
+// mean DEM σ_yy), closures.png (analysis/plots/plot_closures.py, started without a shell, when
+// `plot`), then closures.csv, study.json and report.md, into `dir`. `started`: for study.wall_s.
+void write_closure_study(const ClosureStudyResults& results, const std::filesystem::path& dir,
+                         bool plot, spdlog::logger& log,
+                         std::chrono::steady_clock::time_point started);
 
 struct ClosureStudyCommand {
   std::filesystem::path case_file, out_dir;  // out_dir empty: runs/<case name>_closures
