@@ -318,6 +318,7 @@ void write_curves(const Study& o, const fs::path& file) {
                "continuum steady " + observable_names()[k] + ", rank " + std::to_string(written));
     h5.attribute(group, "label",
                  comb.label + (twins ? fmt::format(" (+{} identical)", twins) : std::string()));
+    h5.attribute(group, "rank", r + 1.0);
     h5.attribute(group, "aic", f.aic);
     h5.attribute(group, "chi2_red", f.chi2_red);
   }

@@ -46,8 +46,8 @@ def main(study):
             for rank in range(1, count + 1):
                 g = curves[str(rank)]
                 ax.plot(grid, g[name][:], STYLES[(rank - 1) % len(STYLES)],
-                        label="{}. {} (AIC {:.4g}, χ²_red {:.3g})".format(
-                            rank, text(g.attrs["label"]), float(g.attrs["aic"]),
+                        label="rank {}: {} (AIC {:.4g}, χ²_red {:.3g})".format(
+                            int(g.attrs["rank"]), text(g.attrs["label"]), float(g.attrs["aic"]),
                             float(g.attrs["chi2_red"])))
             ax.set_xscale("log")
             if name == "scaled_temperature":
