@@ -102,6 +102,8 @@ CalibratedModel start_model(const core::Case& c) {
   start.reference_liquid_viscosity = start.settings.liquid_parameters.viscosity;
   start.factors.fluctuation_dissipation = c.number("fit.fluctuation_dissipation_factor");
   start.factors.contact_production = c.number("steady.contact_production");
+  start.factors.friction_rise = c.number("steady.friction_rise");
+  start.factors.friction_rise_I0 = c.number("steady.friction_rise_I0");
   return start;
 }
 
@@ -110,7 +112,9 @@ std::string dropped_because(const std::string& name, const core::Case& c) {
   if (name == "correlation_length_constant" &&
       c.string("collisional.correlation_length") != "jenkins")
     return "acts only with collisional.correlation_length: jenkins";
-  if ((key.rfind("force_chains.", 0) == 0 || name == "contact_production") &&
+  // steady.* (contact production, friction rise) are terms of the force chains' steady state
+  if ((key.rfind("force_chains.", 0) == 0 || key.rfind("steady.", 0) == 0 ||
+       name == "contact_production") &&
       !c.boolean("force_chains.enabled"))
     return "a force-chain parameter: acts only with force_chains.enabled: true";
   if ((key.rfind("liquid.", 0) == 0 || name == "fluctuation_dissipation_factor") &&
@@ -357,7 +361,8 @@ ClosureFit fit_combination(const ClosureStudy& study, std::size_t index, const S
   try {
     const CalibratedModel start = start_model(c);
     const FitResult r = fit(start, comb.parameters, data.training, study.observables,
-                            static_cast<int>(c.integer("fit.max_evaluations")));
+                            static_cast<int>(c.integer("fit.max_evaluations")),
+                            static_cast<int>(c.integer("fit.starts")));
     const CalibratedModel calibrated = apply(start, comb.parameters, r.estimate);
     out.ok = std::isfinite(r.chi2);
     if (!out.ok) out.error = "χ² is not finite at the estimate";
