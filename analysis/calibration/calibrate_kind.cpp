@@ -148,6 +148,7 @@ int run_calibrate_case(core::RunContext& ctx) {
   start.factors.contact_production = c.number("steady.contact_production");
   start.factors.friction_rise = c.number("steady.friction_rise");
   start.factors.friction_rise_I0 = c.number("steady.friction_rise_I0");
+  start.factors.skeleton_from_model = c.string("steady.skeleton_stress") == "force_chain_model";
   log.info("forward model: {}",
            start.settings.force_chains
                ? fmt::format("in-parallel steady state (force chains on the critical state, μ_FC "

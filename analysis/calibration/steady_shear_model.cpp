@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 #include "continuum/model/correlation_length_jenkins.hpp"
 #include "continuum/model/force_chains/critical_state_lade_duncan.hpp"
+#include "continuum/model/force_chains/force_chain_model.hpp"
 
 namespace granflow::calibration {
 
@@ -94,6 +96,45 @@ std::string in_parallel_caveat(const continuum::MultiRegimeSettings& settings) {
       nu_line, nu_max);
 }
 
+SkeletonShearState skeleton_simple_shear_state(
+    const model::force_chains::ForceChainParameters& parameters) {
+  thread_local model::force_chains::ForceChainParameters cached_parameters{};
+  thread_local SkeletonShearState cached{};
+  thread_local bool has_cache = false;
+  // ForceChainParameters is doubles then two ints: no padding, so bytes compare values.
+  if (has_cache && std::memcmp(&cached_parameters, &parameters, sizeof parameters) == 0)
+    return cached;
+  using model::force_chains::Tensor;
+  const model::force_chains::ForceChainModel model(parameters);
+  // Start isotropic on the line at p_ref; constant volume keeps e = e_cs(p_ref) and the skeleton
+  // relaxes to the critical state with the same mean stress.
+  const double p0 = parameters.atmospheric_pressure;
+  const double e0 = model.critical_state().critical_void_ratio(p0);
+  auto state = model.isotropic_state(p0, e0, 1.0);
+  Tensor increment = Tensor::Zero();
+  constexpr double dgamma = 2e-3;  // shear strain per update
+  increment(0, 1) = increment(1, 0) = -0.5 * dgamma;  // compression-positive ε_xy of u_x = γ̇ y
+  SkeletonShearState out;
+  double last_ratio = 0, last_pressure = 0;
+  int quiet = 0;
+  for (int i = 1; i <= 50000 && quiet < 20; ++i) {
+    model.update(state, increment, 1.0, 0.0);
+    const Tensor& sigma = state.stress;
+    const double ratio = -sigma(0, 1) / sigma(1, 1), pressure = sigma.trace() / 3.0 / sigma(1, 1);
+    const double change =
+        std::max(std::abs(ratio - last_ratio), std::abs(pressure - last_pressure)) / dgamma;
+    quiet = change < 1e-10 ? quiet + 1 : 0;
+    last_ratio = ratio, last_pressure = pressure;
+    out.strain = i * dgamma;
+  }
+  const Tensor& sigma = state.stress;
+  out.friction = last_ratio;
+  out.pressure_ratio = last_pressure;
+  out.cos3theta = model::force_chains::lode_cos3theta(model::force_chains::deviator(sigma));
+  cached_parameters = parameters, cached = out, has_cache = true;
+  return out;
+}
+
 double steady_sqrt_temperature_at(const continuum::MultiRegimeSettings& settings,
                                   const ModelFactors& factors, double solid_fraction,
                                   double shear_rate, double contact_work) {
@@ -133,13 +174,25 @@ SteadyShearState steady_simple_shear(const continuum::MultiRegimeSettings& setti
   const double nu_max = model::maximum_solid_fraction(p);
   // μ_FC: the critical state's, plus the optional rise with the imposed condition's I.
   const double imposed_I = shear_rate * d / std::sqrt(normal_stress / rho_p);
+  // The skeleton's stress state: τ_FC = μ_FC σ_yy,FC, p_FC = r_p σ_yy,FC (p_FC on the line).
+  SkeletonShearState skeleton_state;
+  if (chains) {
+    if (factors.skeleton_from_model)
+      skeleton_state = skeleton_simple_shear_state(fc);
+    else
+      skeleton_state.friction = critical_state_friction(fc);
+  }
+  const double r_p = skeleton_state.pressure_ratio;
   const double mu_fc =
-      chains ? critical_state_friction(fc) +
+      chains ? skeleton_state.friction +
                    factors.friction_rise / (1.0 + factors.friction_rise_I0 / imposed_I)
              : 0.0;
   const double production_per_pressure =
       chains ? factors.contact_production * mu_fc * shear_rate / rho_p : 0.0;
-  const auto skeleton = [&](double nu) { return chains ? critical_state_pressure(fc, nu) : 0.0; };
+  // σ_yy,FC(ν) from the line's mean stress
+  const auto skeleton = [&](double nu) {
+    return chains ? critical_state_pressure(fc, nu) / r_p : 0.0;
+  };
   const auto sqrt_T = [&](double nu, double p_fc) {
     return steady_sqrt_temperature_at(settings, factors, nu, shear_rate,
                                       production_per_pressure * p_fc);
@@ -181,7 +234,7 @@ SteadyShearState steady_simple_shear(const continuum::MultiRegimeSettings& setti
   const auto c = model::collisional_coefficients(p, nu);
   const double p_col = rho_p * c.f1 * s * s;
   const double p_total = p_fc + p_col;
-  out.force_chain_pressure = p_fc;
+  out.force_chain_normal_stress = p_fc;
   out.collisional_pressure = p_col;
   out.force_chain_shear_stress = mu_fc * p_fc;
   out.collisional_shear_stress = rho_p * d * c.f2 * s * shear_rate;  // τ_COL = η_COL γ̇

@@ -58,7 +58,24 @@ struct ModelFactors {
   // the contact network alone.
   double friction_rise = 0.0;
   double friction_rise_I0 = 0.3;
+  // Stress state of the skeleton on its critical state in simple shear (steady.skeleton_stress):
+  // false (`lode_zero`): σ_xx = σ_yy = σ_zz = p_FC, τ_FC/σ_yy = M(θ=0)/√3 (closed form, fast);
+  // true (`force_chain_model`): the state the force-chain model itself reaches in simple shear
+  // (skeleton_simple_shear_state), which the time-stepped REV reaches too.
+  bool skeleton_from_model = false;
 };
+
+// The force-chain model's own critical state in simple shear: integrated at constant volume on
+// the critical state line until its stress is stationary (to 1e-10 per unit strain). The ratios
+// depend on the shape parameters only (the model is rate independent and its steady stress scales
+// with p), so the result is cached per parameter set.
+struct SkeletonShearState {
+  double friction = 0;        // τ_FC / σ_yy,FC
+  double pressure_ratio = 1;  // p_FC / σ_yy,FC (p_FC = tr σ_FC / 3)
+  double cos3theta = 0;       // Lode angle of σ_FC (diagnostics)
+  double strain = 0;          // shear strain integrated
+};
+SkeletonShearState skeleton_simple_shear_state(const model::force_chains::ForceChainParameters& p);
 
 struct SteadyShearState {
   bool ok = false;                  // false: no steady state carries p (message in `why`)
@@ -67,7 +84,7 @@ struct SteadyShearState {
   double granular_temperature = 0;  // T, m²/s²
   double scaled_temperature = 0;    // T / (d γ̇)²
   double shear_stress = 0;          // τ = τ_FC + τ_COL + τ_L, Pa
-  double force_chain_pressure = 0;       // p_FC = σ_yy,FC on the critical state, Pa
+  double force_chain_normal_stress = 0;  // σ_yy,FC (= p_FC on the line with lode_zero), Pa
   double collisional_pressure = 0;       // p_COL = ρ_p f1 T, Pa
   double force_chain_shear_stress = 0;   // τ_FC = μ_FC p_FC, Pa
   double collisional_shear_stress = 0;   // τ_COL = ρ_p d f2 T^½ γ̇, Pa

@@ -193,6 +193,7 @@ int run_pair_case(core::RunContext& ctx) {
   model.factors.contact_production = c.number("steady.contact_production");
   model.factors.friction_rise = c.number("steady.friction_rise");
   model.factors.friction_rise_I0 = c.number("steady.friction_rise_I0");
+  model.factors.skeleton_from_model = c.string("steady.skeleton_stress") == "force_chain_model";
   // Wet rows carry their own η0; the case's viscosity is the reference (factor 1).
   model.reference_liquid_viscosity = model.settings.liquid_parameters.viscosity;
   // The comparison model: kinetic theory alone (the same sections, force chains off).
@@ -348,7 +349,7 @@ int run_pair_case(core::RunContext& ctx) {
     const auto ok = [](const calibration::SteadyShearState& st, double v) {
       return st.ok ? v : NAN;
     };
-    const double tau = s.shear_stress, p_total = s.force_chain_pressure + s.collisional_pressure;
+    const double tau = s.shear_stress, p_total = s.force_chain_normal_stress + s.collisional_pressure;
     const std::map<std::string, double> more = {
         {"mu_kt", ok(s_kt, s_kt.friction)},
         {"phi_kt", ok(s_kt, s_kt.solid_fraction)},
@@ -356,7 +357,7 @@ int run_pair_case(core::RunContext& ctx) {
         {"share_tau_fc", ok(s, s.force_chain_shear_stress / tau)},
         {"share_tau_col", ok(s, s.collisional_shear_stress / tau)},
         {"share_tau_liq", ok(s, s.liquid_shear_stress / tau)},
-        {"share_p_fc", ok(s, s.force_chain_pressure / p_total)}};
+        {"share_p_fc", ok(s, s.force_chain_normal_stress / p_total)}};
     for (const auto& [name, value] : more) extra[name].push_back(value);
     const std::string key = fmt::format("pair.{}.", n);
     if (calibrate) {

@@ -177,6 +177,12 @@ core::Field steady_section() {
   s.number("friction_rise_I0", "", "I_0 of the force chains' friction rise")
       .default_value("0.3")
       .greater_than(0);
+  s.choice("skeleton_stress", {"lode_zero", "force_chain_model"},
+           "stress state of the skeleton on its critical state in simple shear: lode_zero "
+           "(σ_xx = σ_yy = σ_zz, τ/σ_yy = M(θ=0)/√3, closed form) or force_chain_model (the state "
+           "the force-chain model reaches, as the time-stepped REV; integrated once per parameter "
+           "set)")
+      .default_value("lode_zero");
   return s;
 }
 

@@ -82,8 +82,8 @@ TEST(SteadyInParallel, NormalStressIsSharedAndTheEnergyBalanceHolds) {
       const auto st = steady_simple_shear(s, f, gamma_dot, 100.0);
       ASSERT_TRUE(st.ok) << st.why;
       // p_FC(ν) from the line, p_COL from T: their sum is the imposed σ_yy (ν to rounding).
-      EXPECT_NEAR((st.force_chain_pressure + st.collisional_pressure) / 100.0, 1.0, 1e-9);
-      EXPECT_NEAR(st.force_chain_pressure,
+      EXPECT_NEAR((st.force_chain_normal_stress + st.collisional_pressure) / 100.0, 1.0, 1e-9);
+      EXPECT_NEAR(st.force_chain_normal_stress,
                   critical_state_pressure(s.force_chain_parameters, st.solid_fraction), 1e-9);
       // Production τ_COL γ̇ + α τ_FC γ̇ = Γ = ρ_p f3 T^{3/2}/d (L = d), written independently of
       // the solver's scaled form.
@@ -116,7 +116,7 @@ TEST(SteadyInParallel, LooseOfTheLineAtFastShearIsKineticTheoryAlone) {
   const auto a = steady_simple_shear(chains, {}, 400.0, 100.0);
   const auto b = steady_simple_shear(alone, {}, 400.0, 100.0);
   ASSERT_TRUE(a.ok && b.ok);
-  EXPECT_EQ(a.force_chain_pressure, 0.0);
+  EXPECT_EQ(a.force_chain_normal_stress, 0.0);
   EXPECT_LT(b.solid_fraction, 1.0 / (1.0 + chains.force_chain_parameters.e_Gamma));
   EXPECT_NEAR(a.solid_fraction, b.solid_fraction, 1e-14);
   EXPECT_NEAR(a.friction, b.friction, 1e-12);
@@ -133,8 +133,8 @@ TEST(SteadyInParallel, FrictionRisesFromTheCriticalStateToTheCollisionalValue) {
     ASSERT_TRUE(st.ok) << st.why;
     std::printf("γ̇ %5.1f I %.4f: μ %.4f φ %.4f T* %.4f  p_FC/p %.3f\n", gamma_dot,
                 st.inertial_number, st.friction, st.solid_fraction, st.scaled_temperature,
-                st.force_chain_pressure / 100.0);
-    if (st.force_chain_pressure > 0) {
+                st.force_chain_normal_stress / 100.0);
+    if (st.force_chain_normal_stress > 0) {
       EXPECT_GT(st.friction, last_mu) << gamma_dot;
     }
     EXPECT_LT(st.solid_fraction, last_phi) << gamma_dot;

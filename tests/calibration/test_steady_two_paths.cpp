@@ -1,0 +1,87 @@
+// The in-parallel steady state by two independent paths: the algebraic solution of the forward
+// model (steady_shear_model.hpp, skeleton stress from the force-chain model) and the time-stepped
+// REV simple shear at constant normal stress with the full point (rev::run_simple_shear: force
+// chains integrated elasto-plastically, T by the energy balance, ε̇_yy by the mixed control).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "analysis/calibration/steady_shear_model.hpp"
+#include "continuum/rev/simple_shear.hpp"
+
+namespace granflow::calibration {
+namespace {
+
+// DEM-scale spheres (cases/rev/simple_shear_force_chains_pressure.yaml): a critical state line
+// about 100 Pa that the skeleton can reach below the jamming fraction.
+continuum::MultiRegimeSettings spheres() {
+  continuum::MultiRegimeSettings s;  // collisional defaults: d = 1 mm, ρ_p = 2500, e_r = 0.7
+  s.force_chains = true;
+  s.collisional_parameters.jamming_fraction = 0.587;
+  auto& f = s.force_chain_parameters;
+  f.bulk_modulus_ref = 1e5;
+  f.reference_pressure = 100;
+  f.pressure_floor = 1;
+  f.M_c = 0.70;
+  f.e_Gamma = 0.74;
+  f.lambda_c = 0.01;
+  f.xi_c = 0.5;
+  f.atmospheric_pressure = 100;
+  f.e_min = 0.5625;
+  f.e_max = 1.0;
+  f.fluidization_size = 1;
+  f.resolidification_size = 2;
+  f.regrowth_modulus = 5e3;
+  return s;
+}
+
+TEST(SteadyTwoPaths, SkeletonStressStateIsTheForceChainModelsOwn) {
+  // The skeleton's critical state in simple shear is not at θ = 0: σ_xx = σ_yy but σ_zz differs
+  // (measured with the REV: τ/σ_yy = 0.3705, σ_zz/σ_yy = 0.952 at M_c = 0.70). The closed-form
+  // lode_zero state is the approximation 0.3714, p = σ_yy.
+  const auto k = skeleton_simple_shear_state(spheres().force_chain_parameters);
+  std::printf("skeleton: τ/σ_yy %.6f, p/σ_yy %.6f, cos3θ %.4f after strain %.1f\n", k.friction,
+              k.pressure_ratio, k.cos3theta, k.strain);
+  EXPECT_NEAR(k.friction, 0.3705, 5e-4);
+  EXPECT_NEAR(k.pressure_ratio, (2.0 + 0.952) / 3.0, 1e-3);
+  EXPECT_LT(k.friction, critical_state_friction(spheres().force_chain_parameters));
+}
+
+TEST(SteadyTwoPaths, AlgebraicAndTimeSteppedAgreeFromSlowToFastShear) {
+  // I = γ̇ d / sqrt(p/ρ_p) with d = 1 mm, ρ_p = 2500, p = 100 Pa: γ̇ = 200 I. The REV stops at a
+  // relative change of 1e-5 per unit strain (its approach decays over a strain of ~0.3), so it
+  // ends within ~3e-6 of its limit in the slowest variable; measured: μ, φ, T within 1e-6.
+  // Tolerance 1e-5 relative.
+  const auto settings = spheres();
+  const continuum::MultiRegimePoint point(settings);
+  ModelFactors factors;
+  factors.skeleton_from_model = true;
+  for (double I : {1e-3, 1e-2, 0.05, 0.1, 0.2, 0.5, 1.0}) {
+    const double gamma_dot = 200.0 * I;
+    const auto direct = steady_simple_shear(settings, factors, gamma_dot, 100.0);
+    ASSERT_TRUE(direct.ok) << direct.why;
+    rev::SimpleShearControl c;
+    c.control = rev::ShearControl::constant_pressure;
+    c.shear_rate = gamma_dot;
+    c.normal_stress = 100.0;
+    c.void_ratio = 1.0 / direct.solid_fraction - 1.0 + 0.01;  // a looser start
+    // σ_FC jitters by ~1e-9 per step (drift correction, FTOL), i.e. ~1e-6 per unit strain at
+    // Δγ = 1e-3: the detection tolerance must sit above it.
+    c.steady_tolerance = 1e-5;
+    c.max_strain = 200;
+    c.max_steps = 2000000;
+    const auto r = rev::run_simple_shear(point, c);
+    ASSERT_TRUE(r.steady.reached) << I << ": not steady after strain " << r.steady.strain;
+    std::printf("I %.3g: μ %.7f vs %.7f, φ %.7f vs %.7f, T %.6g vs %.6g, τ_FC/τ %.3f, %ld steps\n",
+                I, direct.friction, r.steady.friction, direct.solid_fraction,
+                r.steady.solid_fraction, direct.granular_temperature,
+                r.steady.granular_temperature, r.steady.share_tau_force_chains, r.steps);
+    EXPECT_NEAR(r.steady.friction / direct.friction, 1.0, 1e-5) << I;
+    EXPECT_NEAR(r.steady.solid_fraction / direct.solid_fraction, 1.0, 1e-5) << I;
+    EXPECT_NEAR(r.steady.granular_temperature / direct.granular_temperature, 1.0, 1e-5) << I;
+  }
+}
+
+}  // namespace
+}  // namespace granflow::calibration
