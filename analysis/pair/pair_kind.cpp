@@ -41,24 +41,38 @@ std::vector<std::string> split_words(const std::string& text) {
 }
 
 // Smooth model curves over the DEM's range of γ̇ (a factor 2 beyond each end, 80 rates, log
-// spaced) at the mean measured σ_yy and the first point's μ_p and η0: /pair/curve/*.
+// spaced) with the first point's μ_p and η0: /pair/curve/*. The normal stress follows the DEM's
+// measured σ_yy, interpolated linearly in log γ̇ between the points (constant beyond the ends), so
+// that the curves pass through the model's values at the DEM points (the model is not a function
+// of I alone: the critical state line depends on p).
 void write_model_curves(core::RunContext& ctx, const std::vector<calibration::DataPoint>& points,
                         const calibration::CalibratedModel& model,
                         const calibration::CalibratedModel& kinetic,
                         const calibration::CalibratedModel* calibrated) {
   if (points.empty()) return;
-  double lo = INFINITY, hi = 0, sigma = 0;
-  for (const auto& p : points)
-    lo = std::min(lo, p.shear_rate), hi = std::max(hi, p.shear_rate), sigma += p.normal_stress;
-  sigma /= static_cast<double>(points.size());
-  lo *= 0.5, hi *= 2.0;
+  std::vector<std::pair<double, double>> measured;  // (ln γ̇, σ_yy), sorted
+  for (const auto& p : points) measured.emplace_back(std::log(p.shear_rate), p.normal_stress);
+  std::sort(measured.begin(), measured.end());
+  const auto sigma_at = [&](double gamma_dot) {
+    const double x = std::log(gamma_dot);
+    if (x <= measured.front().first) return measured.front().second;
+    if (x >= measured.back().first) return measured.back().second;
+    std::size_t k = 1;
+    while (measured[k].first < x) ++k;
+    const auto& [x0, y0] = measured[k - 1];
+    const auto& [x1, y1] = measured[k];
+    return x1 > x0 ? y0 + (y1 - y0) * (x - x0) / (x1 - x0) : y1;
+  };
+  double lo = std::exp(measured.front().first) * 0.5, hi = std::exp(measured.back().first) * 2.0;
   constexpr int count = 80;
   std::map<std::string, std::vector<double>> curve;
   for (int i = 0; i < count; ++i) {
     calibration::DataPoint at = points.front();
     at.shear_rate = lo * std::pow(hi / lo, double(i) / (count - 1));
+    const double sigma = sigma_at(at.shear_rate);
     at.normal_stress = sigma;
     curve["shear_rate"].push_back(at.shear_rate);
+    curve["normal_stress"].push_back(sigma);
     const double eta0 = std::isfinite(at.liquid_viscosity) ? at.liquid_viscosity : 0.0;
     curve["J"].push_back(eta0 * at.shear_rate / sigma);
     const double rho_p = model.settings.collisional_parameters.particle_density;
@@ -78,9 +92,12 @@ void write_model_curves(core::RunContext& ctx, const std::vector<calibration::Da
   }
   for (const auto& [name, values] : curve)
     ctx.result.write("/pair/curve/" + name, values,
-                     name.rfind("T_", 0) == 0 ? "m^2/s^2" : (name == "shear_rate" ? "1/s" : "1"),
-                     name + " along a smooth γ̇ sweep at the mean DEM σ_yy (_model: the case's "
-                            "continuum model, _kt: kinetic theory alone, _cal: calibrated)");
+                     name.rfind("T_", 0) == 0
+                         ? "m^2/s^2"
+                         : (name == "shear_rate" ? "1/s" : (name == "normal_stress" ? "Pa" : "1")),
+                     name + " along a smooth γ̇ sweep at the DEM's σ_yy interpolated in log γ̇ "
+                            "(_model: the case's continuum model, _kt: kinetic theory alone, _cal: "
+                            "calibrated)");
 }
 
 }  // namespace
