@@ -16,11 +16,9 @@ core::Schema simple_shear_schema() {
       "rev", "simple_shear",
       "Homogeneous simple shear of one material point at imposed shear rate, at constant volume "
       "or constant normal stress, integrated to steady state (model.md §3-5). With force_chains "
-      "enabled (constant volume only) the skeleton σ_FC works in parallel: all terms.");
-  // (The words "constant volume only" above are stale: constant_pressure with force chains runs
-  // by mixed control, docs/model/multi_regime.md §4.1, and initial.effective_pressure is then
-  // replaced by p - p_COL(ν0, T0). They are kept until docs/cases.md, generated from this text
-  // and checked by tests/cli, is regenerated with it.)
+      "enabled the skeleton σ_FC works in parallel: all terms (at constant normal stress by "
+      "mixed control of ε̇_yy, docs/model/multi_regime.md §4.1; initial.effective_pressure is then "
+      "replaced by p - p_COL(ν0, T0)).");
   s.add(continuum::material_section());
   s.add(continuum::force_chains_section());
   s.add(continuum::collisional_section());
