@@ -73,7 +73,7 @@ core::Schema calibrate_schema() {
              "correlation_length_constant, liquid_viscosity_factor, "
              "fluctuation_dissipation_factor; with force_chains on also critical_void_ratio, "
              "critical_state_slope, critical_state_exponent, critical_stress_ratio, "
-             "contact_production, friction_rise, friction_rise_I0")
+             "contact_production, friction_rise, friction_rise_I0, viscous_dilatancy")
       .required();
   fit.integer("max_evaluations", "largest number of residual evaluations of Levenberg-Marquardt")
       .default_value("4000")
@@ -148,6 +148,8 @@ int run_calibrate_case(core::RunContext& ctx) {
   start.factors.contact_production = c.number("steady.contact_production");
   start.factors.friction_rise = c.number("steady.friction_rise");
   start.factors.friction_rise_I0 = c.number("steady.friction_rise_I0");
+  start.factors.viscous_dilatancy = c.number("steady.viscous_dilatancy");
+  start.factors.mixed_number_alpha = c.number("liquid.trulsson_alpha");
   start.factors.skeleton_from_model = c.string("steady.skeleton_stress") == "force_chain_model";
   log.info("forward model: {}",
            start.settings.force_chains

@@ -42,6 +42,8 @@ const std::vector<ParameterSpec>& parameter_specs() {
        "Δμ_FC of μ_FC(I) = μ_cs + Δμ_FC/(1 + I_0/I) (granflow's own; start it above 0)"},
       {"friction_rise_I0", "steady.friction_rise_I0", 1e-3, 10.0,
        "I_0 of the force chains' friction rise"},
+      {"viscous_dilatancy", "steady.viscous_dilatancy", 0.0, 10.0,
+       "a_J of e_Γ + a_J √J (granflow's own, immersed; start it above 0)"},
   };
   return specs;
 }
@@ -70,6 +72,7 @@ double parameter_value(const CalibratedModel& m, const std::string& name) {
   if (name == "contact_production") return m.factors.contact_production;
   if (name == "friction_rise") return m.factors.friction_rise;
   if (name == "friction_rise_I0") return m.factors.friction_rise_I0;
+  if (name == "viscous_dilatancy") return m.factors.viscous_dilatancy;
   return parameter_spec(name).lower;  // throws for unknown names
 }
 
@@ -99,6 +102,8 @@ void set_parameter(CalibratedModel& m, const std::string& name, double value) {
     m.factors.friction_rise = value;
   else if (name == "friction_rise_I0")
     m.factors.friction_rise_I0 = value;
+  else if (name == "viscous_dilatancy")
+    m.factors.viscous_dilatancy = value;
   else
     parameter_spec(name);  // throws
 }

@@ -172,8 +172,16 @@ SteadyShearState steady_simple_shear(const continuum::MultiRegimeSettings& setti
   const auto& p = settings.collisional_parameters;
   const double rho_p = p.particle_density, d = p.diameter;
   const double nu_max = model::maximum_solid_fraction(p);
-  // μ_FC: the critical state's, plus the optional rise with the imposed condition's I.
+  // μ_FC: the critical state's, plus the optional rise with the imposed condition's mixed number
+  // X = sqrt(I² + J/α) (X = I dry).
   const double imposed_I = shear_rate * d / std::sqrt(normal_stress / rho_p);
+  const double imposed_J =
+      settings.liquid ? settings.liquid_parameters.viscosity * shear_rate / normal_stress : 0.0;
+  const double mixed_number =
+      std::sqrt(imposed_I * imposed_I + imposed_J / factors.mixed_number_alpha);
+  // The critical state line, moved looser by the optional viscous dilatancy e_Γ + a_J √J.
+  model::force_chains::ForceChainParameters line = fc;
+  line.e_Gamma += factors.viscous_dilatancy * std::sqrt(imposed_J);
   // The skeleton's stress state: τ_FC = μ_FC σ_yy,FC, p_FC = r_p σ_yy,FC (p_FC on the line).
   SkeletonShearState skeleton_state;
   if (chains) {
@@ -185,13 +193,13 @@ SteadyShearState steady_simple_shear(const continuum::MultiRegimeSettings& setti
   const double r_p = skeleton_state.pressure_ratio;
   const double mu_fc =
       chains ? skeleton_state.friction +
-                   factors.friction_rise / (1.0 + factors.friction_rise_I0 / imposed_I)
+                   factors.friction_rise / (1.0 + factors.friction_rise_I0 / mixed_number)
              : 0.0;
   const double production_per_pressure =
       chains ? factors.contact_production * mu_fc * shear_rate / rho_p : 0.0;
   // σ_yy,FC(ν) from the line's mean stress
   const auto skeleton = [&](double nu) {
-    return chains ? critical_state_pressure(fc, nu) / r_p : 0.0;
+    return chains ? critical_state_pressure(line, nu) / r_p : 0.0;
   };
   const auto sqrt_T = [&](double nu, double p_fc) {
     return steady_sqrt_temperature_at(settings, factors, nu, shear_rate,

@@ -53,11 +53,19 @@ struct ModelFactors {
   double contact_production = 0.0;
   // Rise of the force chains' friction with the inertial number (steady.friction_rise,
   // steady.friction_rise_I0; granflow's own extension, 0 = the seed's rate-independent skeleton):
-  //   μ_FC(I) = M(θ=0)/√3 + Δμ_FC / (1 + I_0/I),  I = γ̇ d / sqrt(p/ρ_p) of the imposed p,
+  //   μ_FC(X) = M(θ=0)/√3 + Δμ_FC / (1 + I_0/X),  X = I = γ̇ d / sqrt(p/ρ_p) of the imposed p,
   // the form of the μ(I) law of GDR MiDi (2004) and Jop, Forterre & Pouliquen (2006) applied to
   // the contact network alone.
   double friction_rise = 0.0;
   double friction_rise_I0 = 0.3;
+  // Immersed: the rise is driven by the mixed number X = sqrt(I² + J/α) = sqrt(K/α) with
+  // K = J + α I² (Trulsson, Andreotti & Claudin 2012; α = liquid.trulsson_alpha), X = I dry.
+  double mixed_number_alpha = 0.6;
+  // a_J: viscous dilatancy of the skeleton's critical state (steady.viscous_dilatancy;
+  // granflow's own extension after Boyer, Guazzelli & Pouliquen 2011, φ(J) = φ_m/(1 + √J), i.e.
+  // e(J) = e_m + √J/φ_m): e_Γ -> e_Γ + a_J √J with J = η0 γ̇/p of the imposed condition. 0 = the
+  // seed's critical state, which does not see the liquid.
+  double viscous_dilatancy = 0.0;
   // Stress state of the skeleton on its critical state in simple shear (steady.skeleton_stress):
   // false (`lode_zero`): σ_xx = σ_yy = σ_zz = p_FC, τ_FC/σ_yy = M(θ=0)/√3 (closed form, fast);
   // true (`force_chain_model`): the state the force-chain model itself reaches in simple shear

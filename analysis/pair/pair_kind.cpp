@@ -144,6 +144,9 @@ core::Schema pair_schema() {
   cal.string("observables",
              "observables fitted: friction, solid_fraction, scaled_temperature")
       .default_value("friction solid_fraction scaled_temperature");
+  cal.integer("starts", "starting points of the fit (as kind: calibrate's fit.starts)")
+      .default_value("8")
+      .at_least(1);
   return s;
 }
 
@@ -210,6 +213,8 @@ int run_pair_case(core::RunContext& ctx) {
   model.factors.contact_production = c.number("steady.contact_production");
   model.factors.friction_rise = c.number("steady.friction_rise");
   model.factors.friction_rise_I0 = c.number("steady.friction_rise_I0");
+  model.factors.viscous_dilatancy = c.number("steady.viscous_dilatancy");
+  model.factors.mixed_number_alpha = c.number("liquid.trulsson_alpha");
   model.factors.skeleton_from_model = c.string("steady.skeleton_stress") == "force_chain_model";
   // Wet rows carry their own η0; the case's viscosity is the reference (factor 1).
   model.reference_liquid_viscosity = model.settings.liquid_parameters.viscosity;
@@ -242,7 +247,8 @@ int run_pair_case(core::RunContext& ctx) {
     for (std::size_t i = 0; i < data.points.size(); ++i)
       (i % 2 ? held : training).push_back(data.points[i]);
     try {
-      const auto r = calibration::fit(model, fit_names, training, observables);
+      const auto r = calibration::fit(model, fit_names, training, observables, 4000,
+                                      static_cast<int>(c.integer("calibrate.starts")));
       calibrated = calibration::apply(model, fit_names, r.estimate);
       log.info("calibrated on {} of {} points (every other held out): χ²_red {:.4g}",
                training.size(), data.points.size(), r.chi2_red);

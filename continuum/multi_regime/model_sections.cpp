@@ -68,7 +68,9 @@ core::Field liquid_section() {
       .at_most(1);
   l.boolean("fluctuation_dissipation", "Λ: fluctuation energy given to the liquid")
       .default_value("true");
-  l.number("trulsson_alpha", "", "α of K = J + α I² (reporting only)")
+  l.number("trulsson_alpha", "",
+           "α of K = J + α I² (reporting, and the mixed number sqrt(K/α) of the steady model's "
+           "friction rise)")
       .default_value("0.6")
       .greater_than(0);
   return l;
@@ -169,9 +171,16 @@ core::Field steady_section() {
       .at_least(0)
       .at_most(1);
   s.number("friction_rise", "",
-           "Δμ_FC: rise of the force chains' friction with I, μ_FC(I) = μ_cs + Δμ_FC/(1 + I_0/I) "
+           "Δμ_FC: rise of the force chains' friction with I, μ_FC = μ_cs + Δμ_FC/(1 + I_0/X), "
+           "X = I dry, sqrt(I² + J/α) immersed "
            "(granflow's own extension after the μ(I) law of GDR MiDi 2004; 0 = the seed's "
            "rate-independent skeleton)")
+      .default_value("0")
+      .at_least(0);
+  s.number("viscous_dilatancy", "",
+           "a_J: immersed, the skeleton's critical void ratio e_Γ + a_J √J (granflow's own "
+           "extension after Boyer et al. 2011, φ(J) = φ_m/(1 + √J): a_J ≈ 1/φ_m; 0 = the seed's "
+           "critical state)")
       .default_value("0")
       .at_least(0);
   s.number("friction_rise_I0", "", "I_0 of the force chains' friction rise")
