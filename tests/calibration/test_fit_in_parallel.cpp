@@ -74,3 +74,35 @@ TEST(CalibrationFitInParallel, CriticalStateParametersCoveredWithinTwoStandardEr
 
 }  // namespace
 }  // namespace granflow::calibration
+
+namespace granflow::calibration {
+namespace {
+
+TEST(CalibrationFitInParallel, NamedExtensionsCoveredWithinTwoStandardErrors) {
+  // The two named extensions (contact production α_FC, friction rise Δμ_FC) with the critical
+  // state: truth α_FC = 0.5, Δμ_FC = 0.3, e_Γ = 0.9, M_c = 0.75 (λ_c = 0.3, ξ_c = 1 fixed).
+  const auto model = [](double e_gamma, double m_c, double alpha, double rise) {
+    CalibratedModel m = spheres(0.7, e_gamma, m_c, 0.3);
+    m.settings.force_chain_parameters.xi_c = 1.0;
+    m.factors.contact_production = alpha;
+    m.factors.friction_rise = rise;
+    return m;
+  };
+  const std::vector<std::string> extension_names = {"critical_void_ratio", "critical_stress_ratio",
+                                                    "contact_production", "friction_rise"};
+  const double truth[4] = {0.9, 0.75, 0.5, 0.3};
+  constexpr int seeds = 16;
+  int covered[4] = {0, 0, 0, 0};
+  for (int seed = 1; seed <= seeds; ++seed) {
+    const auto data = testing::synthetic_points(model(0.9, 0.75, 0.5, 0.3), 3000u + unsigned(seed));
+    const auto r = fit(model(0.85, 0.7, 0.3, 0.2), extension_names, data, observables);
+    ASSERT_TRUE(r.identifiable) << seed;
+    for (int j = 0; j < 4; ++j)
+      covered[j] += std::abs(r.estimate[j] - truth[j]) < 2 * r.standard_error[j];
+  }
+  // As above: P(covered < 13 of 16) ≈ 0.7 % for a linear-Gaussian problem.
+  for (int j = 0; j < 4; ++j) EXPECT_GE(covered[j], 13) << extension_names[j];
+}
+
+}  // namespace
+}  // namespace granflow::calibration

@@ -83,5 +83,42 @@ TEST(SteadyTwoPaths, AlgebraicAndTimeSteppedAgreeFromSlowToFastShear) {
   }
 }
 
+TEST(SteadyTwoPaths, ImmersedAlgebraicAndTimeSteppedAgreeOverTheViscousNumber) {
+  // The same with the liquid on (σ_L = 2 η(ν) ε̇', Boyer's η with ν_m = 0.64 above the line, Λ):
+  // J = η0 γ̇ / p from 1e-4 to 1e-2 at γ̇ = 10 1/s, p = 100 Pa (η0 = 1e-3 ... 0.1 Pa s). At
+  // J >= 0.1 the REV's step (a fraction of T's relaxation time under the liquid's damping Λ,
+  // 1.1e-7 s at J = 0.1) needs more than 2e6 steps per unit strain: not run here.
+  auto settings = spheres();
+  settings.liquid = true;
+  settings.fluctuation_dissipation = true;
+  settings.liquid_parameters.maximum_packing = 0.64;
+  ModelFactors factors;
+  factors.skeleton_from_model = true;
+  for (double J : {1e-4, 1e-3, 1e-2}) {
+    settings.liquid_parameters.viscosity = J * 100.0 / 10.0;
+    const continuum::MultiRegimePoint point(settings);
+    const auto direct = steady_simple_shear(settings, factors, 10.0, 100.0);
+    ASSERT_TRUE(direct.ok) << direct.why;
+    rev::SimpleShearControl c;
+    c.control = rev::ShearControl::constant_pressure;
+    c.shear_rate = 10.0;
+    c.normal_stress = 100.0;
+    c.void_ratio = 1.0 / direct.solid_fraction - 1.0 + 0.01;
+    c.steady_tolerance = 1e-5;
+    c.max_strain = 200;
+    c.max_steps = 2000000;
+    const auto r = rev::run_simple_shear(point, c);
+    ASSERT_TRUE(r.steady.reached) << J << ": not steady after " << r.steps << " steps, Δt "
+                                  << r.min_time_step << " s";
+    std::printf("J %.0e: μ %.7f vs %.7f, φ %.7f vs %.7f, T %.6g vs %.6g, τ_L/τ %.3f\n", J,
+                direct.friction, r.steady.friction, direct.solid_fraction,
+                r.steady.solid_fraction, direct.granular_temperature,
+                r.steady.granular_temperature, r.steady.share_tau_liquid);
+    EXPECT_NEAR(r.steady.friction / direct.friction, 1.0, 1e-5) << J;
+    EXPECT_NEAR(r.steady.solid_fraction / direct.solid_fraction, 1.0, 1e-5) << J;
+    EXPECT_NEAR(r.steady.granular_temperature / direct.granular_temperature, 1.0, 1e-5) << J;
+  }
+}
+
 }  // namespace
 }  // namespace granflow::calibration
