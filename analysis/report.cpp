@@ -116,6 +116,21 @@ void pair_section(std::ostream& md, const core::Summary& s) {
     md << "\n";
   }
   md << "\n";
+  if (s.contains("pair.fit.chi2_red")) {  // the pair's own calibration (its `calibrate` section)
+    md << "## The continuum calibrated on these DEM points\n\n"
+          "Fitted on the even points, the odd ones held out (`_cal` columns above; "
+          "`pair.fit.*` below). χ²_red = "
+       << number(s.get("pair.fit.chi2_red")) << ".\n\n| held-out observable | calibrated | "
+                                                 "uncalibrated |\n|---|---|---|\n";
+    for (const char* o : {"friction", "solid_fraction", "scaled_temperature"}) {
+      const std::string key = std::string("pair.holdout.rel_err.") + o;
+      const std::string before = std::string("pair.holdout.rel_err_uncalibrated.") + o;
+      if (!s.contains(key)) continue;
+      md << "| " << o << " | " << number(s.get(key)) << " | "
+         << (s.contains(before) ? number(s.get(before)) : "") << " |\n";
+    }
+    md << "\n";
+  }
 }
 
 // kind: dem (sweeps): re-derive the fits from result.h5 without rerunning LIGGGHTS
