@@ -100,6 +100,63 @@ void write_model_curves(core::RunContext& ctx, const std::vector<calibration::Da
                             "calibrated)");
 }
 
+// Immersed pairs that vary η0: smooth curves over the viscous number J = η0 γ̇/σ_yy, one per
+// level of σ_yy (points within 30 % of each other's σ_yy form a level), at the level's mean γ̇
+// and σ_yy, η0 log spaced from half the smallest to twice the largest of the level:
+// /pair/curve_J/<level>/{J, mu_*, phi_*, T_*}.
+void write_viscous_curves(core::RunContext& ctx, const std::vector<calibration::DataPoint>& points,
+                          const calibration::CalibratedModel& model,
+                          const calibration::CalibratedModel& kinetic,
+                          const calibration::CalibratedModel* calibrated) {
+  std::vector<const calibration::DataPoint*> wet;
+  for (const auto& p : points)
+    if (std::isfinite(p.liquid_viscosity) && p.liquid_viscosity > 0) wet.push_back(&p);
+  std::set<double> viscosities;
+  for (const auto* p : wet) viscosities.insert(p->liquid_viscosity);
+  if (viscosities.size() < 2) return;
+  std::sort(wet.begin(), wet.end(), [](auto* a, auto* b) { return a->normal_stress < b->normal_stress; });
+  std::vector<std::vector<const calibration::DataPoint*>> levels;
+  for (const auto* p : wet) {
+    if (levels.empty() || p->normal_stress > 1.3 * levels.back().front()->normal_stress)
+      levels.emplace_back();
+    levels.back().push_back(p);
+  }
+  for (std::size_t level = 0; level < levels.size(); ++level) {
+    double sigma = 0, gamma_dot = 0, lo = INFINITY, hi = 0;
+    for (const auto* p : levels[level]) {
+      sigma += p->normal_stress / levels[level].size();
+      gamma_dot += p->shear_rate / levels[level].size();
+      lo = std::min(lo, p->liquid_viscosity), hi = std::max(hi, p->liquid_viscosity);
+    }
+    lo *= 0.5, hi *= 2.0;
+    constexpr int count = 60;
+    std::map<std::string, std::vector<double>> curve;
+    for (int i = 0; i < count; ++i) {
+      calibration::DataPoint at = *levels[level].front();
+      at.liquid_viscosity = lo * std::pow(hi / lo, double(i) / (count - 1));
+      at.shear_rate = gamma_dot;
+      at.normal_stress = sigma;
+      curve["J"].push_back(at.liquid_viscosity * gamma_dot / sigma);
+      const auto add = [&](const std::string& tag, const calibration::CalibratedModel& m) {
+        const auto s = calibration::predict(m, at);
+        curve["mu_" + tag].push_back(s.ok ? s.friction : NAN);
+        curve["phi_" + tag].push_back(s.ok ? s.solid_fraction : NAN);
+        curve["T_" + tag].push_back(s.ok ? s.granular_temperature : NAN);
+      };
+      add("model", model);
+      add("kt", kinetic);
+      if (calibrated) add("cal", *calibrated);
+    }
+    const std::string group = fmt::format("/pair/curve_J/{}/", level);
+    for (const auto& [name, values] : curve)
+      ctx.result.write(group + name, values, name.rfind("T_", 0) == 0 ? "m^2/s^2" : "1",
+                       fmt::format("{} along a smooth η0 sweep at γ̇ = {:g} 1/s, σ_yy = {:g} Pa "
+                                   "(_model, _kt: kinetic theory alone, _cal: calibrated)",
+                                   name, gamma_dot, sigma));
+    ctx.result.attribute(group.substr(0, group.size() - 1), "normal_stress", sigma);
+  }
+}
+
 }  // namespace
 
 int dry_regime(double I) { return I < 1e-3 ? 0 : (I < 0.1 ? 1 : 2); }
@@ -208,16 +265,8 @@ int run_pair_case(core::RunContext& ctx) {
   for (const auto& why : data.skipped) log.warn("DEM {}", why);
 
   // ---- continuum side: the steady simple shear at each DEM condition (γ̇, measured σ_yy, μ_p)
-  calibration::CalibratedModel model;
-  model.settings = continuum::read_multi_regime_settings(c);
-  model.factors.contact_production = c.number("steady.contact_production");
-  model.factors.friction_rise = c.number("steady.friction_rise");
-  model.factors.friction_rise_I0 = c.number("steady.friction_rise_I0");
-  model.factors.viscous_dilatancy = c.number("steady.viscous_dilatancy");
-  model.factors.mixed_number_alpha = c.number("liquid.trulsson_alpha");
-  model.factors.skeleton_from_model = c.string("steady.skeleton_stress") == "force_chain_model";
   // Wet rows carry their own η0; the case's viscosity is the reference (factor 1).
-  model.reference_liquid_viscosity = model.settings.liquid_parameters.viscosity;
+  const calibration::CalibratedModel model = calibration::read_case_model(c);
   // The comparison model: kinetic theory alone (the same sections, force chains off).
   calibration::CalibratedModel kinetic = model;
   kinetic.settings.force_chains = false;
@@ -451,6 +500,7 @@ int run_pair_case(core::RunContext& ctx) {
                             "points with held_out = 0; share_*: fraction of τ or σ_yy carried "
                             "by the force chains, collisions, liquid)");
   write_model_curves(ctx, data.points, model, kinetic, calibrate ? &calibrated : nullptr);
+  write_viscous_curves(ctx, data.points, model, kinetic, calibrate ? &calibrated : nullptr);
   ctx.plot("plot_pair.py");
   return core::exit_ok;
 }

@@ -2,7 +2,8 @@
 """PNG plots of a `kind: pair` run (analysis/pair): DEM points (± error) against the continuum
 models drawn as smooth curves over I (/pair/curve: the case's model, kinetic theory alone and,
 when the case calibrates, the calibrated model) for μ, φ and T (pair.png); the share of τ carried
-by the force chains (pair_shares.png); the relative errors of μ, e, T per point (pair_errors.png).
+by the force chains (pair_shares.png); immersed pairs over η0 also against J (pair_J.png,
+/pair/curve_J); the relative errors of μ, e, T per point (pair_errors.png).
 Usage: plot_pair.py RUN_DIR"""
 import os
 import sys
@@ -55,6 +56,32 @@ def main(run):
         fig.tight_layout()
         fig.savefig(os.path.join(run, "pair.png"), dpi=120)
         plt.close(fig)
+
+        if "curve_J" in g:  # immersed pair over η0: μ, φ, T against J, one curve per σ_yy level
+            J = g["J_dem"][:]
+            fig, axes = plt.subplots(1, 3, figsize=(14, 4))
+            for ax, (name, label, log) in zip(axes, panels):
+                ax.errorbar(J, g[name + "_dem"][:], yerr=g[name + "_dem_err"][:], fmt="ko",
+                            capsize=2, label="DEM (LIGGGHTS)", zorder=3)
+                for level in sorted(g["curve_J"].keys(), key=int):
+                    c = g["curve_J"][level]
+                    sigma = c.attrs.get("normal_stress", float("nan"))
+                    for tag, style, text in (("model", "r-", "continuum"),
+                                             ("kt", "b--", "kinetic theory alone"),
+                                             ("cal", "g-", "calibrated")):
+                        if name + "_" + tag in c:
+                            ax.plot(c["J"][:], c[name + "_" + tag][:], style, lw=1.2,
+                                    label=f"{text}, σ_yy = {sigma:.3g} Pa")
+                ax.set_xscale("log")
+                finite = [v for line in ax.get_lines() for v in line.get_ydata() if np.isfinite(v) and v > 0]
+                if log or (finite and max(finite) > 20 * min(finite)):
+                    ax.set_yscale("log")
+                ax.set(xlabel="viscous number J = η0 γ̇ / σ_yy", ylabel=label)
+            axes[0].legend(fontsize=6)
+            fig.suptitle("immersed: DEM vs continuum over the viscous number")
+            fig.tight_layout()
+            fig.savefig(os.path.join(run, "pair_J.png"), dpi=120)
+            plt.close(fig)
 
         if "curve" in g and "share_tau_fc_model" in g["curve"]:
             c = g["curve"]
