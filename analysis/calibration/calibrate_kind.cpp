@@ -13,34 +13,6 @@
 
 namespace granflow::calibration {
 
-namespace {
-
-// "a b, c" -> {"a", "b", "c"}
-std::vector<std::string> split_names(const std::string& text) {
-  std::vector<std::string> out;
-  std::string item;
-  std::istringstream in(text);
-  while (in >> item) {
-    std::istringstream parts(item);
-    std::string part;
-    while (std::getline(parts, part, ','))
-      if (!part.empty()) out.push_back(part);
-  }
-  return out;
-}
-
-std::filesystem::path resolve_data_path(const core::Case& c, const std::string& name) {
-  const std::filesystem::path p(name);
-  if (p.is_absolute() || std::filesystem::exists(p)) return p;
-  const auto beside_case = std::filesystem::path(c.origin()).parent_path() / p;
-  if (std::filesystem::exists(beside_case)) return beside_case;
-  const auto in_source = core::source_dir() / p;
-  if (std::filesystem::exists(in_source)) return in_source;
-  return p;  // reported as missing by read_dem_dataset
-}
-
-}  // namespace
-
 core::Schema calibrate_schema() {
   core::Schema s = core::kind_header(
       "calibrate", "",
@@ -141,22 +113,7 @@ void check_calibrate_case(const core::Case& c) {
 int run_calibrate_case(core::RunContext& ctx) {
   const core::Case& c = ctx.run_case;
   auto& log = *ctx.log;
-  CalibratedModel start;
-  start.settings = continuum::read_multi_regime_settings(c);
-  start.reference_liquid_viscosity = start.settings.liquid_parameters.viscosity;
-  start.factors.fluctuation_dissipation = c.number("fit.fluctuation_dissipation_factor");
-  start.factors.contact_production = c.number("steady.contact_production");
-  start.factors.friction_rise = c.number("steady.friction_rise");
-  start.factors.friction_rise_I0 = c.number("steady.friction_rise_I0");
-  start.factors.viscous_dilatancy = c.number("steady.viscous_dilatancy");
-  start.factors.mixed_number_alpha = c.number("liquid.trulsson_alpha");
-  start.factors.skeleton_from_model = c.string("steady.skeleton_stress") == "force_chain_model";
-  log.info("forward model: {}",
-           start.settings.force_chains
-               ? fmt::format("in-parallel steady state (force chains on the critical state, μ_FC "
-                             "= {:.4g} in simple shear; docs/model/steady_state.md)",
-                             critical_state_friction(start.settings.force_chain_parameters))
-               : std::string("kinetic theory alone (force_chains.enabled: false)"));
+  const CalibratedModel start = read_case_model(c);
   if (const auto caveat = in_parallel_caveat(start.settings); !caveat.empty())
     log.warn("{}", caveat);
   const auto names = split_names(c.string("fit.parameters"));

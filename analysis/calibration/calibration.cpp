@@ -7,10 +7,13 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <sstream>
 #include <stdexcept>
 
 #include "analysis/least_squares.hpp"
+#include "continuum/multi_regime/model_sections.hpp"
 #include "core/result_file.hpp"
+#include "core/run.hpp"
 
 namespace granflow::calibration {
 
@@ -345,6 +348,46 @@ FitResult fit_from(const CalibratedModel& start, const std::vector<std::string>&
   return out;
 }
 }  // namespace
+
+std::vector<std::string> split_names(const std::string& text) {
+  std::vector<std::string> out;
+  std::string item;
+  std::istringstream in(text);
+  while (in >> item) {
+    std::istringstream parts(item);
+    std::string part;
+    while (std::getline(parts, part, ','))
+      if (!part.empty()) out.push_back(part);
+  }
+  return out;
+}
+
+std::filesystem::path resolve_data_path(const core::Case& c, const std::string& name) {
+  const std::filesystem::path p(name);
+  if (p.is_absolute() || std::filesystem::exists(p)) return p;
+  const auto beside_case = std::filesystem::path(c.origin()).parent_path() / p;
+  if (std::filesystem::exists(beside_case)) return beside_case;
+  const auto in_source = core::source_dir() / p;
+  if (std::filesystem::exists(in_source)) return in_source;
+  return p;  // reported as missing by read_dem_dataset
+}
+
+CalibratedModel read_case_model(const core::Case& c) {
+  CalibratedModel m;
+  m.settings = continuum::read_multi_regime_settings(c);
+  m.reference_liquid_viscosity = m.settings.liquid_parameters.viscosity;
+  if (c.schema().child("fit") && c.schema().child("fit")->child("fluctuation_dissipation_factor"))
+    m.factors.fluctuation_dissipation = c.number("fit.fluctuation_dissipation_factor");
+  if (c.schema().child("steady")) {
+    m.factors.contact_production = c.number("steady.contact_production");
+    m.factors.friction_rise = c.number("steady.friction_rise");
+    m.factors.friction_rise_I0 = c.number("steady.friction_rise_I0");
+    m.factors.viscous_dilatancy = c.number("steady.viscous_dilatancy");
+    m.factors.skeleton_from_model = c.string("steady.skeleton_stress") == "force_chain_model";
+  }
+  m.factors.mixed_number_alpha = c.number("liquid.trulsson_alpha");
+  return m;
+}
 
 double mean_relative_error(const CalibratedModel& model, const std::vector<DataPoint>& data,
                            Observable observable) {

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "analysis/calibration/steady_shear_model.hpp"
+#include "core/case.hpp"
 
 namespace granflow::calibration {
 
@@ -108,6 +109,18 @@ FitResult fit(const CalibratedModel& start, const std::vector<std::string>& name
               int max_evaluations = 4000, int starts = 1);
 CalibratedModel apply(const CalibratedModel& start, const std::vector<std::string>& names,
                       const Eigen::VectorXd& values);
+
+// ---- reading a calibrate or pair case ------------------------------------------------------
+// "a b, c" -> {"a", "b", "c"} (fit.parameters, data.observables, data.files)
+std::vector<std::string> split_names(const std::string& text);
+// A data path: as given, then beside the case file, then in the source tree (as given if none
+// exists: read_dem_dataset reports it).
+std::filesystem::path resolve_data_path(const core::Case& c, const std::string& name);
+// The model a case describes: its model sections (continuum::read_multi_regime_settings), the
+// steady.* factors (continuum::steady_section), liquid.trulsson_alpha, and f_Λ from
+// fit.fluctuation_dissipation_factor where the case has that key; the reference η0 is the
+// case's liquid.viscosity.
+CalibratedModel read_case_model(const core::Case& c);
 
 // Mean over points of |f - y| / |y| for one observable (NaN if any prediction fails).
 double mean_relative_error(const CalibratedModel& model, const std::vector<DataPoint>& data,

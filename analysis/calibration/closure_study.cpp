@@ -24,20 +24,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// "a b, c" -> {"a", "b", "c"} (fit.parameters, data.observables, data.files)
-std::vector<std::string> split_names(const std::string& text) {
-  std::vector<std::string> out;
-  std::string item;
-  std::istringstream in(text);
-  while (in >> item) {
-    std::istringstream parts(item);
-    std::string part;
-    while (std::getline(parts, part, ','))
-      if (!part.empty()) out.push_back(part);
-  }
-  return out;
-}
-
 std::string join(const std::vector<std::string>& items, const std::string& separator) {
   std::string out;
   for (const auto& item : items) out += (out.empty() ? "" : separator) + item;
@@ -85,27 +71,9 @@ std::vector<std::string> short_names(const std::vector<std::string>& keys) {
   return out;
 }
 
-fs::path resolve_data_path(const core::Case& c, const std::string& name) {
-  const fs::path p(name);
-  if (p.is_absolute() || fs::exists(p)) return p;
-  const auto beside_case = fs::path(c.origin()).parent_path() / p;
-  if (fs::exists(beside_case)) return beside_case;
-  const auto in_source = core::source_dir() / p;
-  return fs::exists(in_source) ? in_source : p;  // missing: reported by read_dem_dataset
-}
-
 }  // namespace
 
-CalibratedModel start_model(const core::Case& c) {
-  CalibratedModel start;
-  start.settings = continuum::read_multi_regime_settings(c);
-  start.reference_liquid_viscosity = start.settings.liquid_parameters.viscosity;
-  start.factors.fluctuation_dissipation = c.number("fit.fluctuation_dissipation_factor");
-  start.factors.contact_production = c.number("steady.contact_production");
-  start.factors.friction_rise = c.number("steady.friction_rise");
-  start.factors.friction_rise_I0 = c.number("steady.friction_rise_I0");
-  return start;
-}
+CalibratedModel start_model(const core::Case& c) { return read_case_model(c); }
 
 std::string dropped_because(const std::string& name, const core::Case& c) {
   const std::string& key = parameter_spec(name).case_key;
