@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/process.hpp"
 #include "core/result_file.hpp"
 #include "core/run.hpp"
 #include "dem_coupling/kind/dem_fits_file.hpp"
@@ -175,14 +176,18 @@ std::string dem_section(const std::filesystem::path& run_dir, core::Summary& s) 
   for (const auto& [key, value] : dem::dem_fit_summary(fits, table)) updated.set(key, value);
   updated.write(run_dir / "summary.json");
   s = updated;
-  const std::string command =
-      fmt::format("'{}' '{}' '{}' > '{}' 2>&1", core::python_interpreter(),
-                  (core::source_dir() / "analysis" / "plots" / "plot_dem.py").string(),
-                  run_dir.string(), (run_dir / "plot_dem.log").string());
-  const int status = std::system(command.c_str());
+  core::ProcessOptions options;
+  options.output = run_dir / "plot_dem.log";
+  const core::ProcessResult plotted = core::run_process(
+      {core::python_interpreter(),
+       (core::source_dir() / "analysis" / "plots" / "plot_dem.py").string(), run_dir.string()},
+      options);
   std::string md = dem::dem_fits_markdown(fits, table);
-  if (status != 0)
-    md += fmt::format("**Note:** plot_dem.py failed (exit {}); see plot_dem.log.\n\n", status);
+  if (!plotted.started())
+    md += fmt::format("**Note:** plot_dem.py did not run: {}.\n\n", plotted.error);
+  else if (plotted.status != 0)
+    md += fmt::format("**Note:** plot_dem.py failed (exit {}); see plot_dem.log.\n\n",
+                      plotted.status);
   return md +
          "The fits above were re-derived from result.h5 by `granflow report` (written to "
          "/fits of result.h5 and to summary.json).\n\n";

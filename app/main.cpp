@@ -22,6 +22,7 @@
 #include "analysis/calibration/closure_study.hpp"
 #endif
 #include "core/case.hpp"
+#include "core/process.hpp"
 #include "core/run.hpp"
 #include "core/sweep_scheduler.hpp"
 
@@ -218,23 +219,28 @@ int main(int argc, char** argv) {
                   << ": the study directory exists; choose --out DIR or pass --force\n";
         return core::exit_bad_input;
       }
+      if (const std::string why = core::protected_path(dir); !why.empty()) {
+        std::cerr << "error: " << dir.string() << ": " << why << "\n";
+        return core::exit_bad_input;
+      }
       fs::remove_all(dir);
     }
-    auto quote = [](const std::string& text) {
-      std::string q = "'";
-      for (char ch : text) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
-      return q + "'";
-    };
-    std::string command = quote(core::python_interpreter()) + " " +
-                          quote((core::source_dir() / "analysis" / "rheometer_study.py").string()) +
-                          " " + quote(case_file) + " " + quote(dir.string()) + " --granflow " +
-                          quote(fs::read_symlink("/proc/self/exe").string()) + " --vary " +
-                          quote(vary);
-    if (!ladder_mesh.empty()) command += " --mesh " + quote(ladder_mesh);
-    if (!ladder_ppc.empty()) command += " --ppc " + quote(ladder_ppc);
-    if (!ladder_dt.empty()) command += " --dt " + quote(ladder_dt);
-    for (const auto& item : sets) command += " --set " + quote(item);
-    const int status = std::system(command.c_str());
+    std::vector<std::string> command = {
+        core::python_interpreter(),
+        (core::source_dir() / "analysis" / "rheometer_study.py").string(),
+        case_file,
+        dir.string(),
+        "--granflow",
+        fs::read_symlink("/proc/self/exe").string(),
+        "--vary",
+        vary};
+    if (!ladder_mesh.empty()) command.insert(command.end(), {"--mesh", ladder_mesh});
+    if (!ladder_ppc.empty()) command.insert(command.end(), {"--ppc", ladder_ppc});
+    if (!ladder_dt.empty()) command.insert(command.end(), {"--dt", ladder_dt});
+    for (const auto& item : sets) command.insert(command.end(), {"--set", item});
+    const core::ProcessResult study = core::run_process(command);
+    if (!study.started()) std::cerr << "error: " << study.error << "\n";
+    const int status = study.status;
     return status == 0 ? core::exit_ok : core::exit_failure;
   }
   if (report->parsed()) {

@@ -390,6 +390,15 @@ Case Case::parse(const std::string& yaml_text, const std::string& origin,
   c.root_ = validator.check(schema, raw, "");
   c.kind_ = c.root_["kind"].IsDefined() ? c.root_["kind"].as<std::string>() : "";
   c.name_ = c.root_["name"].IsDefined() ? c.root_["name"].as<std::string>() : "";
+  // `name:` is the run directory runs/<name>/ and appears in files granflow writes: a plain file
+  // name only.
+  constexpr const char* plain_name =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789._-";
+  if (!c.name_.empty() && (c.name_ == "." || c.name_ == ".." ||
+                           c.name_.find_first_not_of(plain_name) != std::string::npos))
+    c.fail("name",
+           "expected a plain file name ([A-Za-z0-9._-]+, not . or ..); it names the run "
+           "directory runs/<name>/");
   return c;
 }
 

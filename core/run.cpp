@@ -5,10 +5,16 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <sys/stat.h>
+
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+
+#include "core/process.hpp"
 
 #ifndef GRANFLOW_SOURCE_DIR
 #define GRANFLOW_SOURCE_DIR "."
@@ -31,17 +37,108 @@ void check_finite(double value, long step, const std::string& point, const std::
   if (non_negative && value < 0) throw NumericalFailure(step, point, variable, value, "negative");
 }
 
+namespace {
+
+namespace fs = std::filesystem;
+
+// `a` is `b` or one of its ancestors (both absolute and normal).
+bool contains(const fs::path& a, const fs::path& b) {
+  auto ia = a.begin(), ib = b.begin();
+  for (; ia != a.end() && ib != b.end(); ++ia, ++ib) {
+    if (ia->empty()) continue;  // the trailing "" of "dir/"
+    if (*ia != *ib) return false;
+  }
+  for (; ia != a.end(); ++ia)
+    if (!ia->empty()) return false;
+  return true;
+}
+
+fs::path canonical_or_lexical(const fs::path& p) {
+  std::error_code ec;
+  fs::path c = fs::weakly_canonical(fs::absolute(p, ec), ec);
+  if (ec) c = fs::absolute(p, ec).lexically_normal();
+  return c;
+}
+
+// A run directory written before the marker existed: log.txt and granflow's own case.yaml.
+bool legacy_run_directory(const fs::path& dir) {
+  std::ifstream in(dir / "case.yaml");
+  std::string first;
+  std::getline(in, first);
+  return first == "# resolved case as run by granflow (defaults filled in)" &&
+         fs::exists(dir / "log.txt");
+}
+
+}  // namespace
+
+std::string protected_path(const std::filesystem::path& dir) {
+  const std::string name = dir.filename().string();
+  if (dir.empty() || name == "." || name == "..")
+    return "is . or ..; --force never replaces it";
+  const fs::path target = canonical_or_lexical(dir);
+  if (target == target.root_path()) return "is the root directory; --force never replaces it";
+  if (const char* home = std::getenv("HOME"); home && *home)
+    if (contains(target, canonical_or_lexical(home)))
+      return "is your home directory or one of its ancestors; --force never replaces it";
+  std::error_code ec;
+  if (const fs::path cwd = fs::current_path(ec); !ec && contains(target, canonical_or_lexical(cwd)))
+    return "is the working directory or one of its ancestors; --force never replaces it";
+  if (contains(target, canonical_or_lexical(source_dir())))
+    return "holds the granflow source tree; --force never replaces it";
+  return "";
+}
+
+std::string force_refusal(const std::filesystem::path& dir) {
+  if (std::string why = protected_path(dir); !why.empty()) return why;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    return "is not a directory, so not a granflow run directory; --force replaces only those "
+           "(remove it yourself or choose --out DIR)";
+  if (!fs::exists(dir / run_marker, ec) && !fs::exists(dir / study_marker, ec) &&
+      !legacy_run_directory(dir))
+    return fmt::format(
+        "has no {} marker, so granflow did not create it; --force replaces only granflow run "
+        "directories (remove it yourself or choose --out DIR)",
+        run_marker);
+  return "";
+}
+
 RunDirectory::RunDirectory(const std::filesystem::path& dir, bool force) : dir_(dir) {
-  namespace fs = std::filesystem;
-  if (fs::exists(dir_)) {
+  std::error_code ec;
+  if (fs::exists(fs::symlink_status(dir_, ec))) {
     if (!force)
       throw CaseError(
           fmt::format("{}: the run directory exists; a previous run is never overwritten "
                       "(choose --out DIR, or pass --force to replace it)",
                       dir_.string()));
-    fs::remove_all(dir_);
+    if (const std::string why = force_refusal(dir_); !why.empty())
+      throw CaseError(fmt::format("{}: {}", dir_.string(), why));
+    fs::remove_all(dir_, ec);
+    if (ec)
+      throw CaseError(
+          fmt::format("{}: cannot remove the previous run: {}", dir_.string(), ec.message()));
   }
-  fs::create_directories(dir_);
+  if (const fs::path parent = dir_.parent_path(); !parent.empty()) {
+    fs::create_directories(parent, ec);
+    if (ec)
+      throw CaseError(fmt::format("{}: cannot create the parent directory {}: {}", dir_.string(),
+                                  parent.string(), ec.message()));
+  }
+  // mkdir fails if the directory exists: of two runs started at once into the same new
+  // directory, exactly one gets it and the other is refused here.
+  if (::mkdir(dir_.c_str(), 0777) != 0) {
+    if (errno == EEXIST)
+      throw CaseError(fmt::format(
+          "{}: the run directory exists (created by another process just now); a previous run "
+          "is never overwritten (choose --out DIR, or pass --force to replace it)",
+          dir_.string()));
+    throw CaseError(fmt::format("{}: cannot create the run directory: {}", dir_.string(),
+                                std::strerror(errno)));
+  }
+  std::ofstream marker(dir_ / run_marker);
+  marker << "granflow run directory (granflow run --force may replace it)\n";
+  if (!marker.flush())
+    throw CaseError(fmt::format("{}: cannot write {}", dir_.string(), run_marker));
 }
 
 void Summary::write(const std::filesystem::path& file) const {
@@ -171,22 +268,20 @@ void RunContext::plot(const std::string& script) {
     return;
   }
   result.flush();
-  // Debian's interpreter has python3-matplotlib/python3-h5py; a python3 earlier on PATH (pyenv,
-  // venv) may not. GRANFLOW_PYTHON overrides.
-  std::string python = "python3";
-  if (const char* env = std::getenv("GRANFLOW_PYTHON"); env && *env)
-    python = env;
-  else if (std::filesystem::exists("/usr/bin/python3"))
-    python = "/usr/bin/python3";
-  const std::string command =
-      // result.h5 is still open for writing (flushed above): read it without HDF5's file lock.
-      fmt::format("HDF5_USE_FILE_LOCKING=FALSE '{}' '{}' '{}' >> '{}' 2>&1", python, path.string(),
-                  directory.path().string(), (directory / "log.txt").string());
-  if (std::system(command.c_str()) != 0)
+  // result.h5 is still open for writing (flushed above): read it without HDF5's file lock.
+  ProcessOptions options;
+  options.output = directory / "log.txt";
+  options.append = true;
+  options.set_environment = {"HDF5_USE_FILE_LOCKING=FALSE"};
+  const ProcessResult r =
+      run_process({python_interpreter(), path.string(), directory.path().string()}, options);
+  if (!r.started())
+    log->warn("plotting with {} failed: {}; data in result.h5 is complete", script, r.error);
+  else if (r.status != 0)
     log->warn(
-        "plotting with {} failed (python3-matplotlib and python3-h5py installed?); data in "
-        "result.h5 is complete",
-        script);
+        "plotting with {} failed (exit {}; python3-matplotlib and python3-h5py installed?); data "
+        "in result.h5 is complete",
+        script, r.status);
 }
 
 void RunContext::finish() {

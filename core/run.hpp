@@ -41,7 +41,24 @@ class NumericalFailure : public std::runtime_error {
 void check_finite(double value, long step, const std::string& point, const std::string& variable,
                   bool non_negative = false);
 
-// A run directory: default runs/<case-name>/. Existing directories are refused unless `force`.
+// Written into every run directory when it is created; --force replaces only directories that
+// hold it (or a closure study's study_marker, or a run directory of a granflow from before the
+// marker: log.txt and granflow's own case.yaml).
+inline constexpr const char* run_marker = ".granflow-run";
+inline constexpr const char* study_marker = ".granflow-study";
+
+// Why `dir` may never be deleted by --force, whatever it holds ("" when it is not protected): .
+// or .., /, $HOME, the working directory, the source tree (source_dir()) or an ancestor of these.
+std::string protected_path(const std::filesystem::path& dir);
+
+// Why --force may not replace the existing `dir` ("" when it may): never ., .., /, $HOME, the
+// working directory, the source tree or an ancestor of these; else only a granflow run directory.
+std::string force_refusal(const std::filesystem::path& dir);
+
+// A run directory: default runs/<case-name>/. Existing directories are refused unless `force`,
+// and with `force` unless force_refusal allows it (CaseError naming the path and why). Created
+// atomically (parents first; the directory itself with a mkdir that fails if it exists), with
+// run_marker in it.
 class RunDirectory {
  public:
   RunDirectory(const std::filesystem::path& dir, bool force);

@@ -12,6 +12,7 @@
 
 #include "analysis/steady_state.hpp"
 #include "continuum/multi_regime/model_sections.hpp"
+#include "core/process.hpp"
 #include "core/sweep_scheduler.hpp"
 #include "dem_coupling/kind/dem_fits.hpp"
 #include "dem_coupling/kind/launch.hpp"
@@ -484,8 +485,8 @@ int run_shear(core::RunContext& ctx) {
       cc.log->info(
           "{}: servo to σ_yy = {:g} Pa, gain {:g}, every {} steps (at most {:g} per update)", label,
           p.normal_stress, p.servo_gain, deck.servo_every, p.servo_max_strain);
-    cc.log->info("{}: rerun by hand: cd {} && {} > liggghts.out", label, dir.string(),
-                 shell_line(command));
+    cc.log->info("{}: rerun by hand: cd {} && {} > liggghts.out 2>&1", label,
+                 core::shell_quote(dir.string()), core::shell_line(command));
     if (ranks > 1 && core::launched_by_mpirun())
       cc.log->warn(
           "{}: dem.ranks = {} in a sweep distributed over MPI ranks: every point runs an mpirun "

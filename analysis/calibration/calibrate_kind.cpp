@@ -1,6 +1,7 @@
 #include "analysis/calibration/calibrate_kind.hpp"
 
 #include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <fstream>
@@ -12,6 +13,34 @@
 #include "continuum/multi_regime/model_sections.hpp"
 
 namespace granflow::calibration {
+
+namespace {
+
+// `text` as one comment line: line breaks (also U+0085, U+2028, U+2029) and other control
+// characters become spaces, so that no text can end the comment and start YAML of its own.
+std::string one_line(const std::string& text) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto byte = [&](std::size_t k) {
+      return k < text.size() ? static_cast<unsigned char>(text[k]) : 0u;
+    };
+    if (byte(i) < 0x20 || byte(i) == 0x7f) {
+      out += ' ';
+    } else if (byte(i) == 0xc2 && byte(i + 1) == 0x85) {  // U+0085
+      out += ' ';
+      i += 1;
+    } else if (byte(i) == 0xe2 && byte(i + 1) == 0x80 &&
+               (byte(i + 2) == 0xa8 || byte(i + 2) == 0xa9)) {  // U+2028, U+2029
+      out += ' ';
+      i += 2;
+    } else {
+      out += text[i];
+    }
+  }
+  return out;
+}
+
+}  // namespace
 
 core::Schema calibrate_schema() {
   core::Schema s = core::kind_header(
@@ -310,32 +339,44 @@ int run_calibrate_case(core::RunContext& ctx) {
   out.attribute("/fit", "observables", c.string("data.observables"));
   out.attribute("/fit", "chi2_red", r.chi2_red);
 
-  // ---- calibrated.yaml: the fitted keys under their case sections
+  // ---- calibrated.yaml: the fitted keys under their case sections, written by yaml-cpp's
+  // emitter; the free text of the comment lines (run name, data files) is made one line.
   std::map<std::string, std::vector<std::pair<std::string, double>>> sections;
-  std::string comments;
+  std::vector<std::string> comments;
+  comments.push_back(
+      fmt::format("Calibrated parameters (granflow kind: calibrate, run '{}').", c.name()));
+  comments.push_back(fmt::format("Data: {}; observables: {}; χ²_red = {:.4g}",
+                                 c.string("data.files"), c.string("data.observables"),
+                                 r.chi2_red));
+  for (std::size_t j = 0; j < names.size(); ++j)
+    comments.push_back(
+        fmt::format("{} = {:.8g} ± {:.3g}", names[j], r.estimate[j], r.standard_error[j]));
   for (std::size_t j = 0; j < names.size(); ++j) {
     const auto& spec = parameter_spec(names[j]);
     const double value = case_value(calibrated, names[j]);
     if (spec.case_key.empty()) {
-      comments += fmt::format(
-          "# {}: {:.8g} ± {:.3g} has no case key yet; it is not applied by rev/mpm cases\n",
-          names[j], r.estimate[j], r.standard_error[j]);
+      comments.push_back(
+          fmt::format("{}: {:.8g} ± {:.3g} has no case key yet; it is not applied by rev/mpm cases",
+                      names[j], r.estimate[j], r.standard_error[j]));
       continue;
     }
     const auto dot = spec.case_key.find('.');
     sections[spec.case_key.substr(0, dot)].push_back({spec.case_key.substr(dot + 1), value});
   }
-  std::ofstream yaml(ctx.directory / "calibrated.yaml");
-  yaml << fmt::format("# Calibrated parameters (granflow kind: calibrate, run '{}').\n", c.name());
-  yaml << fmt::format("# Data: {}; observables: {}; χ²_red = {:.4g}\n", c.string("data.files"),
-                      c.string("data.observables"), r.chi2_red);
-  for (std::size_t j = 0; j < names.size(); ++j)
-    yaml << fmt::format("# {} = {:.8g} ± {:.3g}\n", names[j], r.estimate[j], r.standard_error[j]);
-  yaml << comments;
-  for (const auto& [section, keys] : sections) {
-    yaml << section << ":\n";
-    for (const auto& [key, value] : keys) yaml << fmt::format("  {}: {:.10g}\n", key, value);
+  YAML::Emitter emitter;
+  for (std::size_t i = 0; i < comments.size(); ++i) {
+    if (i > 0) emitter << YAML::Newline;
+    emitter << YAML::Comment(one_line(comments[i]));
   }
+  emitter << YAML::BeginMap;
+  for (const auto& [section, keys] : sections) {
+    emitter << YAML::Key << section << YAML::Value << YAML::BeginMap;
+    for (const auto& [key, value] : keys)
+      emitter << YAML::Key << key << YAML::Value << fmt::format("{:.10g}", value);
+    emitter << YAML::EndMap;
+  }
+  emitter << YAML::EndMap;
+  std::ofstream(ctx.directory / "calibrated.yaml") << emitter.c_str() << "\n";
   ctx.plot("plot_calibration.py");
   return core::exit_ok;
 }

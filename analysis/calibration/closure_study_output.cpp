@@ -1,13 +1,8 @@
 // Outputs of `granflow study closures` (closure_study.hpp): the ranked table as closures.csv,
 // report.md and study.json, the curves of the best combinations in closures.h5 and their plot.
-#include <fcntl.h>
 #include <fmt/format.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -15,10 +10,9 @@
 #include <utility>
 
 #include "analysis/calibration/closure_study.hpp"
+#include "core/process.hpp"
 #include "core/result_file.hpp"
 #include "core/run.hpp"
-
-extern char** environ;
 
 namespace granflow::calibration {
 
@@ -334,26 +328,16 @@ bool run_plot(const fs::path& dir, spdlog::logger& log) {
     log.warn("plot script {} not found; no closures.png", script.string());
     return false;
   }
-  std::vector<std::string> args = {core::python_interpreter(), script.string(), dir.string()};
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  const std::string log_file = (dir / "log.txt").string();
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, log_file.c_str(), O_WRONLY | O_APPEND | O_CREAT,
-                                   0644);
-  posix_spawn_file_actions_adddup2(&actions, 1, 2);
-  pid_t pid = 0;
-  const int rc = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  int status = 0;
-  if (rc == 0)
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
-  if (rc != 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    log.warn("{} {} failed (python3-matplotlib and python3-h5py installed?); data in closures.h5",
-             args[0], script.string());
+  core::ProcessOptions options;
+  options.output = dir / "log.txt";
+  options.append = true;
+  const core::ProcessResult r =
+      core::run_process({core::python_interpreter(), script.string(), dir.string()}, options);
+  if (!r.ok()) {
+    log.warn("{} {} failed ({}); data in closures.h5", core::python_interpreter(), script.string(),
+             r.started() ? fmt::format("exit {}; python3-matplotlib and python3-h5py installed?",
+                                       r.status)
+                         : r.error);
     return false;
   }
   return true;

@@ -14,9 +14,6 @@ std::filesystem::path driver_path();
 // argv of the run: [mpirun --oversubscribe [--allow-run-as-root] -np N] driver in.granflow.
 std::vector<std::string> driver_command(int ranks, const std::string& deck_name);
 
-// Shell-quoted one-line form of `command` (what the log prints for a rerun by hand).
-std::string shell_line(const std::vector<std::string>& command);
-
 // The environment granflow-dem starts with: `inherited` (NAME=value entries), plus
 // OMPI_ALLOW_RUN_AS_ROOT(_CONFIRM)=1 for root. When this process is itself a rank of an mpirun
 // (`inside_mpi_job`: a sweep distributed over ranks, docs/parallel-runs.md), the variables Open MPI
@@ -28,7 +25,8 @@ std::vector<std::string> driver_environment(const std::vector<std::string>& inhe
 
 // Runs `command` in `directory` with stdout+stderr to `output_file`; calls `poll` about every
 // `poll_seconds` while it runs, in the environment of driver_environment (this process's). Returns
-// the exit status (128 + signal when killed).
+// the exit status (128 + signal when killed; 127, with an "ERROR: granflow: cannot start ..." line
+// appended to `output_file`, when the program cannot be started). Started without a shell.
 int run_in_directory(const std::vector<std::string>& command,
                      const std::filesystem::path& directory,
                      const std::filesystem::path& output_file, const std::function<void()>& poll,
