@@ -1,12 +1,16 @@
 #include "core/case.hpp"
 
 #include <fmt/format.h>
+#include <yaml-cpp/eventhandler.h>
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <map>
+#include <optional>
 #include <sstream>
+#include <system_error>
 
 namespace granflow::core {
 namespace {
@@ -52,6 +56,129 @@ const Field* schema_field(const Schema& schema, std::string_view path) {
     if (!field) return nullptr;
   }
   return field;
+}
+
+// yaml-cpp keeps one value of a key given twice in a mapping, silently. This pass over the
+// events of the same parser the loader uses finds such keys exactly, at any depth: each open
+// mapping keeps its keys with the line where each was first given.
+struct DuplicateKey {
+  std::string path;
+  int line = 0, first_line = 0;
+};
+
+class DuplicateKeyFinder : public YAML::EventHandler {
+ public:
+  explicit DuplicateKeyFinder(std::string prefix) : prefix_(std::move(prefix)) {}
+  const std::optional<DuplicateKey>& found() const { return found_; }
+
+  void OnDocumentStart(const YAML::Mark&) override {}
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark& mark, YAML::anchor_t) override {
+    const std::string null_key = "~";
+    enter(mark, &null_key);
+  }
+  void OnAlias(const YAML::Mark& mark, YAML::anchor_t) override { enter(mark, nullptr); }
+  void OnScalar(const YAML::Mark& mark, const std::string&, YAML::anchor_t,
+                const std::string& value) override {
+    enter(mark, &value);
+  }
+  void OnSequenceStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {
+    push(false, enter(mark, nullptr));
+  }
+  void OnSequenceEnd() override { stack_.pop_back(); }
+  void OnMapStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {
+    push(true, enter(mark, nullptr));
+  }
+  void OnMapEnd() override { stack_.pop_back(); }
+
+ private:
+  struct Frame {
+    bool map = false;
+    std::string path;
+    bool expect_key = true;
+    std::string key;                  // the key whose value comes next
+    std::map<std::string, int> keys;  // key -> line of its first occurrence
+    std::size_t index = 0;            // sequence item
+  };
+
+  void push(bool map, std::string path) {
+    Frame f;
+    f.map = map;
+    f.path = std::move(path);
+    stack_.push_back(std::move(f));
+  }
+
+  // A node starts: returns its key path and advances the enclosing collection. `scalar` is its
+  // text when it is a scalar (a key to check when the enclosing map expects a key).
+  std::string enter(const YAML::Mark& mark, const std::string* scalar) {
+    if (stack_.empty()) return prefix_;
+    Frame& f = stack_.back();
+    if (!f.map) return fmt::format("{}[{}]", f.path, f.index++);
+    if (f.expect_key) {
+      f.expect_key = false;
+      f.key = scalar ? *scalar : "?";
+      if (scalar && !found_) {
+        const auto [it, inserted] = f.keys.emplace(*scalar, mark.line + 1);
+        if (!inserted) found_ = DuplicateKey{join(f.path, *scalar), mark.line + 1, it->second};
+      }
+      return join(f.path, "?");  // a complex key's own content: not a case path
+    }
+    f.expect_key = true;
+    return join(f.path, f.key);
+  }
+
+  std::string prefix_;
+  std::vector<Frame> stack_;
+  std::optional<DuplicateKey> found_;
+};
+
+// The first key given twice in one mapping of the (first) document, or none. Throws
+// YAML::ParserException on a syntax error, as YAML::Load would on the same text.
+std::optional<DuplicateKey> find_duplicate_key(const std::string& text, const std::string& prefix) {
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  DuplicateKeyFinder finder(prefix);
+  parser.HandleNextDocument(finder);
+  return finder.found();
+}
+
+void refuse_duplicate_keys(const std::string& text, const std::string& file) {
+  if (const auto dup = find_duplicate_key(text, ""))
+    throw CaseError(fmt::format("{}:{}: {}: given twice (first at line {}); expected each key once",
+                                file, dup->line, dup->path, dup->first_line));
+}
+
+// Case and included files are read only if they are regular files: a FIFO would block the
+// open, a directory gives a library error. Checked before opening.
+enum class ReadStatus { ok, cannot_open, not_regular };
+
+ReadStatus read_regular_file(const std::filesystem::path& file, std::string& text) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(file, ec);
+  if (ec || !std::filesystem::exists(status)) return ReadStatus::cannot_open;
+  if (!std::filesystem::is_regular_file(status)) return ReadStatus::not_regular;
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return ReadStatus::cannot_open;
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  if (in.bad()) return ReadStatus::cannot_open;
+  text = buffer.str();
+  return ReadStatus::ok;
+}
+
+std::string read_case_file(const std::filesystem::path& file) {
+  std::string text;
+  switch (read_regular_file(file, text)) {
+    case ReadStatus::ok:
+      break;
+    case ReadStatus::cannot_open:
+      throw CaseError(fmt::format("{}: cannot open the case file", file.string()));
+    case ReadStatus::not_regular:
+      throw CaseError(fmt::format("{}: not a regular file", file.string()));
+  }
+  return text;
 }
 
 bool parse_number(const YAML::Node& node, double& value) {
@@ -141,13 +268,22 @@ struct Validator {
         return YAML::Node(value);
       }
       case ValueType::integer: {
-        double value = 0;
-        if (!parse_number(node, value) || std::floor(value) != value)
+        // read exactly (schema.hpp): 1e20 or 3.5 are refused, never wrapped or truncated
+        long long value = 0;
+        const auto status = node.IsScalar() ? field.parse_integer(node.as<std::string>(), value)
+                                            : Field::IntegerStatus::not_integer;
+        if (status == Field::IntegerStatus::not_integer)
           fail(path, node, "not an integer; " + expected);
-        if (!field.within_bounds(value))
+        if (status == Field::IntegerStatus::out_of_range)
           fail(path, node,
-               fmt::format("value {} is out of range; {}", node.as<std::string>(), expected));
-        return YAML::Node(static_cast<long>(value));
+               fmt::format("value {} is out of range; {}{}", node.as<std::string>(), expected,
+                           field.integer_limit_note()));
+        if (status == Field::IntegerStatus::inexact)
+          fail(path, node,
+               fmt::format("value {} in floating-point notation is beyond 2^53 and may not be "
+                           "exact; expected the {} written in digits",
+                           node.as<std::string>(), field.expectation()));
+        return YAML::Node(value);
       }
       case ValueType::boolean: {
         bool value = false;
@@ -245,11 +381,19 @@ void Case::merge_includes(YAML::Node& raw, const std::string& origin,
   for (const auto& name : files) {
     const std::filesystem::path file =
         std::filesystem::path(name).is_absolute() ? std::filesystem::path(name) : base / name;
+    std::string text;
+    switch (read_regular_file(file, text)) {
+      case ReadStatus::ok:
+        break;
+      case ReadStatus::cannot_open:
+        throw CaseError(fmt::format("{}: include: cannot open '{}'", at, file.string()));
+      case ReadStatus::not_regular:
+        throw CaseError(fmt::format("{}: not a regular file (included at {})", file.string(), at));
+    }
     YAML::Node included;
     try {
-      included = YAML::LoadFile(file.string());
-    } catch (const YAML::BadFile&) {
-      throw CaseError(fmt::format("{}: include: cannot open '{}'", at, file.string()));
+      refuse_duplicate_keys(text, file.string());  // located in the included file
+      included = YAML::Load(text);
     } catch (const YAML::ParserException& e) {
       throw CaseError(
           fmt::format("{}:{}: YAML syntax error: {}", file.string(), e.mark.line + 1, e.msg));
@@ -272,11 +416,7 @@ void Case::merge_includes(YAML::Node& raw, const std::string& origin,
 
 Case Case::load(const std::filesystem::path& file, const std::vector<std::string>& overrides,
                 const Schema& schema) {
-  std::ifstream in(file);
-  if (!in) throw CaseError(fmt::format("{}: cannot open the case file", file.string()));
-  std::stringstream text;
-  text << in.rdbuf();
-  Case c = parse(text.str(), file.string(), overrides, schema);
+  Case c = parse(read_case_file(file), file.string(), overrides, schema);
   if (!c.root_["name"].IsDefined() || c.root_["name"].as<std::string>().empty()) {
     c.name_ = file.stem().string();
     c.root_["name"] = c.name_;
@@ -288,6 +428,7 @@ Case Case::parse(const std::string& yaml_text, const std::string& origin,
                  const std::vector<std::string>& overrides, const Schema& schema) {
   YAML::Node raw;
   try {
+    refuse_duplicate_keys(yaml_text, origin);
     raw = YAML::Load(yaml_text);
   } catch (const YAML::ParserException& e) {
     throw CaseError(fmt::format("{}:{}: YAML syntax error: {}", origin, e.mark.line + 1, e.msg));
@@ -306,6 +447,10 @@ Case Case::parse(const std::string& yaml_text, const std::string& origin,
     const std::string path = item.substr(0, eq);
     YAML::Node value;
     try {
+      // a map value given on the command line follows the same rule as the file
+      if (const auto dup = find_duplicate_key(item.substr(eq + 1), path))
+        throw CaseError(
+            fmt::format("--set {}: {}: given twice; expected each key once", item, dup->path));
       value = YAML::Load(item.substr(eq + 1));
     } catch (const YAML::Exception& e) {
       throw CaseError(fmt::format("--set {}: the value is not valid YAML: {}", item, e.what()));
@@ -371,13 +516,25 @@ Case Case::parse(const std::string& yaml_text, const std::string& origin,
         throw CaseError(fmt::format("{}: sweep.{}: expected a non-empty list of numbers", at, key));
       std::vector<double> values;
       for (std::size_t i = 0; i < item.second.size(); ++i) {
+        const YAML::Node entry = item.second[i];
         double v = 0;
-        // integer keys (e.g. dem.seed) take whole numbers only
-        if (!parse_number(item.second[i], v) ||
-            (field->type() == ValueType::integer && v != std::floor(v)) || !field->within_bounds(v))
-          throw CaseError(fmt::format("{}:{}: sweep.{}[{}]: expected {}", origin,
-                                      item.second[i].Mark().line + 1, key, i,
-                                      field->expectation()));
+        bool ok = false;
+        std::string note;
+        if (field->type() == ValueType::integer) {
+          // integer keys (e.g. dem.seed) take whole numbers within range only, read exactly
+          long long n = 0;
+          const auto status = entry.IsScalar() ? field->parse_integer(entry.as<std::string>(), n)
+                                               : Field::IntegerStatus::not_integer;
+          ok = status == Field::IntegerStatus::ok;
+          if (status == Field::IntegerStatus::out_of_range) note = field->integer_limit_note();
+          if (status == Field::IntegerStatus::inexact) note = " written in digits";
+          v = static_cast<double>(n);
+        } else {
+          ok = parse_number(entry, v) && field->within_bounds(v);
+        }
+        if (!ok)
+          throw CaseError(fmt::format("{}:{}: sweep.{}[{}]: expected {}{}", origin,
+                                      entry.Mark().line + 1, key, i, field->expectation(), note));
         values.push_back(v);
       }
       c.sweep_keys_.push_back(key);
@@ -513,11 +670,10 @@ std::vector<Case> Case::expand_sweep() const {
 }
 
 std::pair<std::string, std::string> peek_kind(const std::filesystem::path& file) {
+  const std::string text = read_case_file(file);  // a FIFO or directory is refused here
   YAML::Node raw;
   try {
-    raw = YAML::LoadFile(file.string());
-  } catch (const YAML::BadFile&) {
-    throw CaseError(fmt::format("{}: cannot open the case file", file.string()));
+    raw = YAML::Load(text);
   } catch (const YAML::ParserException& e) {
     throw CaseError(
         fmt::format("{}:{}: YAML syntax error: {}", file.string(), e.mark.line + 1, e.msg));

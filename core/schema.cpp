@@ -2,9 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 
 namespace granflow::core {
 
@@ -133,6 +137,69 @@ bool Field::within_bounds(double value) const {
   if (lower_ && (lower_inclusive_ ? value < *lower_ : value <= *lower_)) return false;
   if (upper_ && (upper_inclusive_ ? value > *upper_ : value >= *upper_)) return false;
   return true;
+}
+
+namespace {
+constexpr long long kIntMin = std::numeric_limits<int>::min();
+constexpr long long kIntMax = std::numeric_limits<int>::max();
+constexpr double kTwo63 = 9223372036854775808.0;  // 2^63
+constexpr double kTwo53 = 9007199254740992.0;     // 2^53: doubles are exact whole numbers below
+}  // namespace
+
+long long Field::integer_min() const {
+  if (!lower_) return kIntMin;
+  const double b = lower_inclusive_ ? std::ceil(*lower_) : std::floor(*lower_) + 1;
+  if (b <= -kTwo63) return std::numeric_limits<long long>::min();
+  if (b >= kTwo63) return std::numeric_limits<long long>::max();
+  return static_cast<long long>(b);
+}
+
+long long Field::integer_max() const {
+  if (!upper_) return kIntMax;
+  const double b = upper_inclusive_ ? std::floor(*upper_) : std::ceil(*upper_) - 1;
+  if (b >= kTwo63) return std::numeric_limits<long long>::max();
+  if (b <= -kTwo63) return std::numeric_limits<long long>::min();
+  return static_cast<long long>(b);
+}
+
+std::string Field::integer_limit_note() const {
+  if (!lower_ && !upper_) return fmt::format(" (in [{}, {}])", kIntMin, kIntMax);
+  if (!upper_) return fmt::format(" (at most {})", kIntMax);
+  if (!lower_) return fmt::format(" (at least {})", kIntMin);
+  return "";
+}
+
+Field::IntegerStatus Field::parse_integer(const std::string& text, long long& value) const {
+  std::string_view s(text);
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);  // from_chars takes no '+'
+  if (s.empty() || s.front() == '+') return IntegerStatus::not_integer;
+  const char* first = s.data();
+  const char* last = s.data() + s.size();
+  const std::size_t digits_from = s.front() == '-' ? 1 : 0;
+  const bool plain_digits =
+      s.size() > digits_from &&
+      s.find_first_not_of("0123456789", digits_from) == std::string_view::npos;
+  if (plain_digits) {
+    long long v = 0;
+    const auto [end, ec] = std::from_chars(first, last, v);
+    if (ec == std::errc::result_out_of_range) return IntegerStatus::out_of_range;
+    if (ec != std::errc() || end != last) return IntegerStatus::not_integer;
+    value = v;
+  } else {
+    double d = 0;
+    const auto [end, ec] = std::from_chars(first, last, d);
+    if (ec == std::errc::result_out_of_range && end == last) return IntegerStatus::out_of_range;
+    if (ec != std::errc() || end != last || !std::isfinite(d) || std::floor(d) != d)
+      return IntegerStatus::not_integer;
+    if (std::abs(d) >= kTwo63) return IntegerStatus::out_of_range;  // beyond int64
+    value = static_cast<long long>(d);  // exact: d is a whole number within int64
+    if (value < integer_min() || value > integer_max()) return IntegerStatus::out_of_range;
+    // 9007199254740993.0 reads as ...992: beyond 2^53 only digits say which integer is meant
+    if (std::abs(d) > kTwo53) return IntegerStatus::inexact;
+    return IntegerStatus::ok;
+  }
+  if (value < integer_min() || value > integer_max()) return IntegerStatus::out_of_range;
+  return IntegerStatus::ok;
 }
 
 Schema make_root_schema(std::string doc) {

@@ -55,6 +55,20 @@ class Field {
   // Check a number against the bounds; returns false if outside.
   bool within_bounds(double value) const;
 
+  // Integer fields: the scalar text is read as an integer exactly, never through a double
+  // that could overflow. Accepted: decimal digits with an optional sign that fit int64, or a
+  // number in floating notation (1e6, 2.0) that is a whole number of at most 2^53 in magnitude
+  // (so it is exact; a larger one within range is `inexact`). The value must lie within the
+  // bounds; a bound the schema does not state is that of an int (-2^31 .. 2^31-1), so every
+  // integer key fits the int it is stored in.
+  enum class IntegerStatus { ok, not_integer, out_of_range, inexact };
+  IntegerStatus parse_integer(const std::string& text, long long& value) const;
+  // Smallest/largest accepted integer (stated bounds, or the int limits when not stated).
+  long long integer_min() const;
+  long long integer_max() const;
+  // " (at most 2147483647)" etc. when an implicit int limit applies, for out-of-range messages.
+  std::string integer_limit_note() const;
+
  private:
   std::string key_;
   ValueType type_;
