@@ -152,60 +152,14 @@ int run_calibrate_case(core::RunContext& ctx) {
   const Observable primary = observables.front();
   const std::string primary_name = observable_names()[static_cast<int>(primary)];
 
-  // ---- data
-  std::vector<DataPoint> all;
-  const auto files = split_names(c.string("data.files"));
-  for (std::size_t f = 0; f < files.size(); ++f) {
-    const auto path = resolve_data_path(c, files[f]);
-    DemDataset set;
-    try {
-      set = read_dem_dataset(path, static_cast<int>(f));
-    } catch (const std::exception& e) {
-      c.fail("data.files", e.what());
-    }
-    for (const auto& why : set.skipped) log.warn("skipped {}", why);
-    const auto& col = start.settings.collisional_parameters;
-    if (std::abs(set.diameter / col.diameter - 1) > 0.05 ||
-        std::abs(set.particle_density / col.particle_density - 1) > 1e-6)
-      log.warn(
-          "{}: DEM d = {:g} m, ρ_p = {:g} kg/m³ differ from the case's material ({:g} m, {:g} "
-          "kg/m³); the case's material is used",
-          path.string(), set.diameter, set.particle_density, col.diameter, col.particle_density);
-    log.info("{}: {} usable conditions", path.string(), set.points.size());
-    for (const auto& point : set.points)
-      if (!c.has("data.particle_friction") ||
-          std::abs(point.particle_friction - c.number("data.particle_friction")) < 1e-12)
-        all.push_back(point);
-  }
-  if (all.empty())
-    c.fail("data.files", "datasets with usable rows (and data.particle_friction matching one)");
-  std::vector<DataPoint> used;
-  const auto selection =
-      c.has("data.points") ? c.number_list("data.points") : std::vector<double>{};
-  if (selection.empty()) {
-    used = all;
-  } else {
-    for (double v : selection) {
-      const auto i = static_cast<long>(v);
-      if (i < 0 || i >= static_cast<long>(all.size()) || static_cast<double>(i) != v)
-        c.fail("data.points", fmt::format("integer indices in [0, {})", all.size()));
-      used.push_back(all[static_cast<std::size_t>(i)]);
-    }
-  }
-  // ---- training / held-out split
-  std::vector<char> held(used.size(), 0);
-  const std::string mode = c.string("holdout.mode");
-  if (mode == "every_other")
-    for (std::size_t i = 1; i < used.size(); i += 2) held[i] = 1;
-  if (mode == "list")
-    for (double v : c.number_list("holdout.points")) {
-      const auto i = static_cast<long>(v);
-      if (i < 0 || i >= static_cast<long>(used.size()))
-        c.fail("holdout.points", fmt::format("indices in [0, {})", used.size()));
-      held[static_cast<std::size_t>(i)] = 1;
-    }
-  std::vector<DataPoint> training, holdout;
-  for (std::size_t i = 0; i < used.size(); ++i) (held[i] ? holdout : training).push_back(used[i]);
+  // ---- data and the training / held-out split
+  const CaseData data = read_case_data(c);
+  for (const auto& line : data.notes) log.warn("{}", line);
+  for (const auto& line : data.files) log.info("{}", line);
+  const std::vector<DataPoint>& used = data.used;
+  const std::vector<char>& held = data.held;
+  const std::vector<DataPoint>& training = data.training;
+  const std::vector<DataPoint>& holdout = data.holdout;
   if (training.size() * observables.size() <= names.size())
     c.fail("fit.parameters",
            fmt::format("{} parameters but only {} training residuals ({} points × {} observables)",

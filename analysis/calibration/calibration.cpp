@@ -389,6 +389,58 @@ CalibratedModel read_case_model(const core::Case& c) {
   return m;
 }
 
+CaseData read_case_data(const core::Case& c) {
+  CaseData out;
+  std::vector<DataPoint> all;
+  const auto files = split_names(c.string("data.files"));
+  const auto& col = continuum::read_multi_regime_settings(c).collisional_parameters;
+  for (std::size_t f = 0; f < files.size(); ++f) {
+    const auto path = resolve_data_path(c, files[f]);
+    DemDataset set;
+    try {
+      set = read_dem_dataset(path, static_cast<int>(f));
+    } catch (const std::exception& e) {
+      c.fail("data.files", e.what());
+    }
+    for (const auto& why : set.skipped) out.notes.push_back("skipped " + why);
+    out.files.push_back(fmt::format("{}: {} usable conditions", path.string(), set.points.size()));
+    if (std::abs(set.diameter / col.diameter - 1) > 0.05 ||
+        std::abs(set.particle_density / col.particle_density - 1) > 1e-6)
+      out.notes.push_back(fmt::format(
+          "{}: DEM d = {:g} m, ρ_p = {:g} kg/m³ differ from the case's material; the case's is used",
+          path.string(), set.diameter, set.particle_density));
+    for (const auto& point : set.points)
+      if (!c.has("data.particle_friction") ||
+          std::abs(point.particle_friction - c.number("data.particle_friction")) < 1e-12)
+        all.push_back(point);
+  }
+  if (all.empty())
+    c.fail("data.files", "datasets with usable rows (and data.particle_friction matching one)");
+  if (!c.has("data.points")) out.used = all;
+  if (c.has("data.points"))
+    for (double v : c.number_list("data.points")) {
+      const auto i = static_cast<long>(v);
+      if (i < 0 || i >= static_cast<long>(all.size()) || static_cast<double>(i) != v)
+        c.fail("data.points", fmt::format("integer indices in [0, {})", all.size()));
+      out.used.push_back(all[static_cast<std::size_t>(i)]);
+    }
+  // every_other holds out the 2nd, 4th, ... used point, as kind: calibrate
+  out.held.assign(out.used.size(), 0);
+  const std::string mode = c.string("holdout.mode");
+  if (mode == "every_other")
+    for (std::size_t i = 1; i < out.used.size(); i += 2) out.held[i] = 1;
+  if (mode == "list")
+    for (double v : c.number_list("holdout.points")) {
+      const auto i = static_cast<long>(v);
+      if (i < 0 || i >= static_cast<long>(out.used.size()))
+        c.fail("holdout.points", fmt::format("indices in [0, {})", out.used.size()));
+      out.held[static_cast<std::size_t>(i)] = 1;
+    }
+  for (std::size_t i = 0; i < out.used.size(); ++i)
+    (out.held[i] ? out.holdout : out.training).push_back(out.used[i]);
+  return out;
+}
+
 double mean_relative_error(const CalibratedModel& model, const std::vector<DataPoint>& data,
                            Observable observable) {
   if (data.empty()) return NAN;

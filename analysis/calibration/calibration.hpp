@@ -121,6 +121,16 @@ std::filesystem::path resolve_data_path(const core::Case& c, const std::string& 
 // fit.fluctuation_dissipation_factor where the case has that key; the reference η0 is the
 // case's liquid.viscosity.
 CalibratedModel read_case_model(const core::Case& c);
+// The DEM points of a calibrate case (data section: files, particle_friction filter, points) and
+// the training / held-out split (holdout section). Throws core::CaseError located at the key.
+struct CaseData {
+  std::vector<DataPoint> used;
+  std::vector<char> held;  // per used point: 1 = held out
+  std::vector<DataPoint> training, holdout;
+  std::vector<std::string> notes;  // skipped rows, material mismatches (for warnings)
+  std::vector<std::string> files;  // "PATH: N usable conditions", one per file (for the log)
+};
+CaseData read_case_data(const core::Case& c);
 
 // Mean over points of |f - y| / |y| for one observable (NaN if any prediction fails).
 double mean_relative_error(const CalibratedModel& model, const std::vector<DataPoint>& data,

@@ -64,12 +64,7 @@ std::string dropped_because(const std::string& parameter, const core::Case& c);
 
 // The DEM points of the case (data section) and the training / held-out split (holdout section),
 // as kind: calibrate makes them. Throws core::CaseError.
-struct StudyData {
-  std::vector<DataPoint> used;
-  std::vector<char> held;  // per used point: 1 = held out
-  std::vector<DataPoint> training, holdout;
-  std::vector<std::string> notes;  // skipped rows, material mismatches (logged by rank 0)
-};
+using StudyData = CaseData;
 StudyData read_study_data(const core::Case& c);
 
 // Calibration of one combination.
