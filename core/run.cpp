@@ -159,32 +159,69 @@ void Summary::write(const std::filesystem::path& file) const {
 }
 
 Summary Summary::read(const std::filesystem::path& file) {
-  // summary.json is flat {"name": number|null, ...}; this reads exactly what write() writes.
+  // summary.json is flat {"name": number|null, ...}; this reads exactly what write() writes and
+  // refuses anything else (an empty, truncated or foreign file) with the byte where it stopped.
   std::ifstream in(file);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open", file.string()));
+  if (!in)
+    throw std::runtime_error(fmt::format("{}: cannot open: {}", file.string(), std::strerror(errno)));
   std::stringstream text;
   text << in.rdbuf();
   const std::string s = text.str();
-  Summary summary;
   std::size_t pos = 0;
-  while ((pos = s.find('"', pos)) != std::string::npos) {
-    std::string key;
+  const auto fail = [&](const char* expected) -> void {
+    throw std::runtime_error(fmt::format(
+        "{}: not a granflow summary.json (byte {} of {}: expected {}); the run may have been "
+        "interrupted while writing it",
+        file.string(), pos, s.size(), expected));
+  };
+  const auto skip_space = [&] {
+    while (pos < s.size() && std::isspace(static_cast<unsigned char>(s[pos]))) ++pos;
+  };
+  Summary summary;
+  skip_space();
+  if (pos >= s.size() || s[pos] != '{') fail("'{'");
+  ++pos;
+  skip_space();
+  bool first = true;
+  while (true) {
+    skip_space();
+    if (pos < s.size() && s[pos] == '}') {
+      ++pos;
+      break;
+    }
+    if (!first) {
+      if (pos >= s.size() || s[pos] != ',') fail("',' or '}'");
+      ++pos;
+      skip_space();
+    }
+    first = false;
+    if (pos >= s.size() || s[pos] != '"') fail("a quoted key");
     ++pos;
+    std::string key;
     while (pos < s.size() && s[pos] != '"') {
       if (s[pos] == '\\') ++pos;
-      key += s[pos++];
+      if (pos < s.size()) key += s[pos++];
     }
-    pos = s.find(':', pos) + 1;
-    while (pos < s.size() && std::isspace(static_cast<unsigned char>(s[pos]))) ++pos;
+    if (pos >= s.size()) fail("the closing quote of a key");
+    ++pos;
+    skip_space();
+    if (pos >= s.size() || s[pos] != ':') fail("':'");
+    ++pos;
+    skip_space();
     if (s.compare(pos, 4, "null") == 0) {
       summary.set(key, std::nan(""));
       pos += 4;
-    } else {
-      std::size_t used = 0;
-      summary.set(key, std::stod(s.substr(pos), &used));
-      pos += used;
+      continue;
     }
+    const char* begin = s.c_str() + pos;
+    char* end = nullptr;
+    const double value = std::strtod(begin, &end);
+    if (end == begin) fail("a number or null");
+    summary.set(key, value);
+    pos += static_cast<std::size_t>(end - begin);
   }
+  skip_space();
+  if (pos != s.size()) fail("the end of the file after '}'");
   return summary;
 }
 

@@ -1,6 +1,8 @@
 // Run directory, summary.json, result.h5 and the numerical-failure stop.
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -45,6 +47,39 @@ TEST(Summary, RoundTripsNumbersExactlyAndNaNAsNull) {
   EXPECT_EQ(r.get("steady.mu"), 0.1 + 0.2);
   EXPECT_EQ(r.get("cost.wall_s"), 1.5e-7);
   EXPECT_TRUE(std::isnan(r.get("steady.J")));
+  fs::remove_all(dir);
+}
+
+TEST(Summary, EmptyTruncatedOrForeignFilesAreRefusedNamingTheByte) {
+  // `granflow report` on a corrupt summary.json must refuse it, not write an empty report.
+  const fs::path dir = fresh_dir("summary_bad");
+  fs::create_directories(dir);
+  Summary s;
+  s.set("steady.mu", 0.5);
+  s.set("steady.T", 1e-4);
+  s.write(dir / "summary.json");
+  std::stringstream whole;
+  whole << std::ifstream(dir / "summary.json").rdbuf();
+  const std::string text = whole.str();
+  const std::vector<std::string> bad = {"",
+                                        "   \n",
+                                        text.substr(0, text.size() / 2),  // truncated mid-way
+                                        text.substr(0, text.size() - 3),  // no closing brace
+                                        "[1, 2]",
+                                        "{\"a\": 1 \"b\": 2}",
+                                        "{\"a\": abc}",
+                                        text + "trailing"};
+  for (const auto& content : bad) {
+    std::ofstream(dir / "bad.json") << content;
+    try {
+      Summary::read(dir / "bad.json");
+      ADD_FAILURE() << "accepted: " << content;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("not a granflow summary.json"), std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_EQ(Summary::read(dir / "summary.json").get("steady.T"), 1e-4);  // the good one still reads
   fs::remove_all(dir);
 }
 
