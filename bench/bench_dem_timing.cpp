@@ -13,6 +13,7 @@
 #include <limits>
 #include <string>
 
+#include "core/process.hpp"
 #include "dem_coupling/deck/shear_deck.hpp"
 #include "dem_coupling/kind/series_table.hpp"
 
@@ -27,16 +28,17 @@ Timing run(const std::filesystem::path& dir, const granflow::dem::ShearDeck& dec
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "in.granflow") << deck.deck;
   std::ofstream(dir / "particles.data") << deck.data;
-  const std::string launcher =
-      ranks > 1 ? fmt::format(
-                      "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun "
-                      "--oversubscribe -np {} ",
-                      ranks)
-                : "";
-  const std::string cmd = fmt::format("cd '{}' && {}'{}' in.granflow -log none > out.txt 2>&1",
-                                      dir.string(), launcher, GRANFLOW_DEM_DRIVER_PATH);
-  if (std::system(cmd.c_str()) != 0) {
-    std::fprintf(stderr, "granflow-dem failed, see %s/out.txt\n", dir.c_str());
+  // Started from an argument vector (core/process.hpp), no shell.
+  std::vector<std::string> argv;
+  if (ranks > 1) argv = {"mpirun", "--oversubscribe", "--allow-run-as-root", "-np", std::to_string(ranks)};
+  argv.insert(argv.end(), {GRANFLOW_DEM_DRIVER_PATH, "in.granflow", "-log", "none"});
+  granflow::core::ProcessOptions options;
+  options.directory = dir;
+  options.output = dir / "out.txt";
+  const auto result = granflow::core::run_process(argv, options);
+  if (!result.ok()) {
+    std::fprintf(stderr, "granflow-dem failed (%s), see %s/out.txt\n", result.error.c_str(),
+                 dir.c_str());
     std::exit(1);
   }
   const auto stats = granflow::dem::read_series_table(dir / "driver_stats.tsv");
