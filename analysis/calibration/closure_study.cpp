@@ -24,12 +24,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string join(const std::vector<std::string>& items, const std::string& separator) {
-  std::string out;
-  for (const auto& item : items) out += (out.empty() ? "" : separator) + item;
-  return out;
-}
-
 // The sections whose choice and boolean keys `closures:` may vary: the model's, not data/fit.
 const std::vector<std::string> model_sections = {"material", "collisional", "liquid",
                                                  "force_chains", "steady"};
@@ -251,6 +245,12 @@ ClosureStudy load_closure_study(const fs::path& file, const std::vector<std::str
 }
 
 StudyData read_study_data(const core::Case& c) { return read_case_data(c); }
+
+std::string join(const std::vector<std::string>& items, const std::string& separator) {
+  std::string out;
+  for (const auto& item : items) out += (out.empty() ? "" : separator) + item;
+  return out;
+}
 
 double akaike(double chi2, int k) { return chi2 + 2.0 * k; }
 

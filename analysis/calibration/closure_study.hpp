@@ -81,6 +81,9 @@ struct ClosureFit {
 };
 ClosureFit fit_combination(const ClosureStudy& study, std::size_t index, const StudyData& data);
 
+// The items joined by `separator` (table cells, key lists).
+std::string join(const std::vector<std::string>& items, const std::string& separator);
+
 // AIC = χ² + 2k (Akaike 1974; -2 ln L up to a constant for Gaussian errors of known σ).
 double akaike(double chi2, int k);
 // AICc = AIC + 2k(k+1)/(n-k-1), n residuals (Hurvich & Tsai 1989); NaN for n ≤ k + 1.

@@ -20,12 +20,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string join(const std::vector<std::string>& items, const std::string& separator) {
-  std::string out;
-  for (const auto& item : items) out += (out.empty() ? "" : separator) + item;
-  return out;
-}
-
 std::string num(double v, const std::string& format = "{:.10g}") {
   if (format == "yes/no") return v > 0.5 ? "yes" : "**no**";
   return std::isfinite(v) ? fmt::format(fmt::runtime(format), v) : std::string();
