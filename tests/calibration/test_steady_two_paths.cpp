@@ -9,32 +9,12 @@
 
 #include "analysis/calibration/steady_shear_model.hpp"
 #include "continuum/rev/simple_shear.hpp"
+#include "tests/rev/dem_sphere_settings.hpp"
 
 namespace granflow::calibration {
 namespace {
 
-// DEM-scale spheres (cases/rev/simple_shear_force_chains_pressure.yaml): a critical state line
-// about 100 Pa that the skeleton can reach below the jamming fraction.
-continuum::MultiRegimeSettings spheres() {
-  continuum::MultiRegimeSettings s;  // collisional defaults: d = 1 mm, ρ_p = 2500, e_r = 0.7
-  s.force_chains = true;
-  s.collisional_parameters.jamming_fraction = 0.587;
-  auto& f = s.force_chain_parameters;
-  f.bulk_modulus_ref = 1e5;
-  f.reference_pressure = 100;
-  f.pressure_floor = 1;
-  f.M_c = 0.70;
-  f.e_Gamma = 0.74;
-  f.lambda_c = 0.01;
-  f.xi_c = 0.5;
-  f.atmospheric_pressure = 100;
-  f.e_min = 0.5625;
-  f.e_max = 1.0;
-  f.fluidization_size = 1;
-  f.resolidification_size = 2;
-  f.regrowth_modulus = 5e3;
-  return s;
-}
+continuum::MultiRegimeSettings spheres() { return testing::dem_sphere_settings(); }
 
 TEST(SteadyTwoPaths, SkeletonStressStateIsTheForceChainModelsOwn) {
   // The skeleton's critical state in simple shear is not at θ = 0: σ_xx = σ_yy but σ_zz differs

@@ -11,6 +11,7 @@
 #include <cstdio>
 
 #include "continuum/rev/simple_shear.hpp"
+#include "tests/rev/dem_sphere_settings.hpp"
 
 using namespace granflow;
 
@@ -19,23 +20,7 @@ namespace {
 constexpr double kNormalStress = 100.0;  // Pa
 
 continuum::MultiRegimeSettings dem_spheres(double M_c) {
-  continuum::MultiRegimeSettings s;  // collisional defaults: d = 1 mm, ρ_p = 2500, e_r = 0.7
-  s.force_chains = true;
-  auto& f = s.force_chain_parameters;
-  f.bulk_modulus_ref = 1e5;
-  f.reference_pressure = 100;
-  f.pressure_floor = 1;
-  f.M_c = M_c;
-  f.e_Gamma = 0.74;  // looser than the collisional jamming e = 1/0.587 - 1 = 0.7036 (case file)
-  f.lambda_c = 0.01;
-  f.xi_c = 0.5;
-  f.atmospheric_pressure = 100;
-  f.e_min = 0.5625;
-  f.e_max = 1.0;
-  f.fluidization_size = 1;
-  f.resolidification_size = 2;
-  f.regrowth_modulus = 5e3;
-  return s;
+  return granflow::testing::dem_sphere_settings(M_c);
 }
 
 rev::SimpleShearControl pressure_control(double initial_void_ratio) {
