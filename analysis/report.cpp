@@ -88,7 +88,7 @@ void calibrate_section(std::ostream& md, const core::Summary& s) {
 void pair_section(std::ostream& md, const core::Summary& s) {
   if (!s.contains("pair.count")) return;
   const int count = static_cast<int>(s.get("pair.count"));
-  // Columns in issue 6's key order, then any other per-point pair.N.* key.
+  // The headline columns first, then any other per-point pair.N.* key.
   std::vector<std::string> columns = {"mu_dem", "mu_dem_err", "mu_cont", "rel_err_mu",
                                       "e_dem",  "e_cont",     "T_dem",   "T_cont"};
   std::set<std::string> known(columns.begin(), columns.end());
@@ -121,8 +121,9 @@ void pair_section(std::ostream& md, const core::Summary& s) {
     md << "## The continuum calibrated on these DEM points\n\n"
           "Fitted on the even points, the odd ones held out (`_cal` columns above; "
           "`pair.fit.*` below). χ²_red = "
-       << number(s.get("pair.fit.chi2_red")) << ".\n\n| held-out observable | calibrated | "
-                                                 "uncalibrated |\n|---|---|---|\n";
+       << number(s.get("pair.fit.chi2_red"))
+       << ".\n\n| held-out observable | calibrated | "
+          "uncalibrated |\n|---|---|---|\n";
     for (const char* o : {"friction", "solid_fraction", "scaled_temperature"}) {
       const std::string key = std::string("pair.holdout.rel_err.") + o;
       const std::string before = std::string("pair.holdout.rel_err_uncalibrated.") + o;

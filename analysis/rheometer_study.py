@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Speed vs accuracy ladder of an MPM rheometer case (issue 8, docs/speed-accuracy.md).
+"""Speed vs accuracy ladder of an MPM rheometer case (docs/speed-accuracy.md).
 
 Runs `granflow run CASE --set ...` for a refinement ladder in mesh (cells_r x cells_theta, same
 aspect), points per cell and the time-step factor, then compares every run with the finest one:

@@ -1,6 +1,6 @@
 // Time of one full collisional + liquid closure evaluation at a material point: coefficients
 // (g0, ε, f1..f4, J, M), L, p, viscosity, Γ, conductivity, η(ν), κ, β, per-particle drag, Λ.
-// Target (issue 2, item 9): under 200 ns. Figures: docs/performance.md#closures.
+// Target: under 200 ns. Figures: docs/performance.md#closures.
 #include <benchmark/benchmark.h>
 
 #include <array>

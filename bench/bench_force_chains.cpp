@@ -1,6 +1,6 @@
 // Time per force-chain update (ForceChainModel::update) on one core: elastic step inside the
 // locus, plastic steps of an MPM-size (1e-6) and a REV-size (1e-4) strain increment, and the
-// fluidized state. Target (issue 3): <= 2 µs for the full material-point update.
+// fluidized state. Target: <= 2 µs for the full material-point update.
 #include <benchmark/benchmark.h>
 
 #include "continuum/model/force_chains/force_chain_model.hpp"

@@ -61,7 +61,7 @@ core::Schema shear_schema() {
       .default_value("0.2857142857142857")
       .greater_than(0);
   s.add(std::move(material));
-  // Immersed runs (issue 5): the continuum's liquid section (enabled, viscosity, permeability,
+  // Immersed runs: the continuum's liquid section (enabled, viscosity, permeability,
   // sphericity, trulsson_alpha are read; the other keys are the continuum's) plus DEM-only keys.
   // The viscosity is made sweepable here (St = ρ_p d² γ̇/η0 at fixed γ̇ and σ_yy): the section is
   // rebuilt from the continuum's fields, a copy of liquid.viscosity marked sweepable.

@@ -6,8 +6,9 @@
 //    sit on their critical state and share p with the collisions, p = p_FC(ν) + p_COL(ν, T).
 //
 // Kinetic theory alone.
-// At steady homogeneous simple shear the energy balance of model.md §5 (seed Eq. 21) reduces to
-// production = dissipation, with s = T^½ (granular_temperature_update.hpp, divided by ρ_p s):
+// At steady homogeneous simple shear the energy balance of docs/model/multi_regime.md §3 (seed Eq.
+// 21) reduces to production = dissipation, with s = T^½ (granular_temperature_update.hpp, divided
+// by ρ_p s):
 //
 //     d f2(ν) γ̇² = f3(ν) s³ / (d max(s, a)) + λ s,   λ = f_Λ Λ(ν, T = 1) / ρ_p,
 //
@@ -17,7 +18,8 @@
 // The imposed stress then fixes ν through p_COL(ν) = ρ_p f1(ν) s(ν)² = p on the dense branch
 // (ν above the minimum of p_COL(ν), the branch the REV time integration relaxes to), by bisection.
 // μ = (ρ_p d f2 s γ̇ + η(ν) γ̇) / p with the liquid term only when the liquid is on.
-// Dry with L = d this is the closed form of model.md §3: T = (f2/f3) d² γ̇², μ = sqrt(f2 f3)/f1.
+// Dry with L = d this is the closed form of docs/model/closures.md: T = (f2/f3) d² γ̇², μ = sqrt(f2
+// f3)/f1.
 //
 // In parallel (seed §3.1: at steady state the force chains are on their critical state). The
 // skeleton carries p_FC(ν) (critical_state_pressure below), the collisions p_COL(ν, s(ν)), and
@@ -86,20 +88,20 @@ struct SkeletonShearState {
 SkeletonShearState skeleton_simple_shear_state(const model::force_chains::ForceChainParameters& p);
 
 struct SteadyShearState {
-  bool ok = false;                  // false: no steady state carries p (message in `why`)
-  const char* why = "";             // static text
-  double solid_fraction = 0;        // ν
-  double granular_temperature = 0;  // T, m²/s²
-  double scaled_temperature = 0;    // T / (d γ̇)²
-  double shear_stress = 0;          // τ = τ_FC + τ_COL + τ_L, Pa
+  bool ok = false;                       // false: no steady state carries p (message in `why`)
+  const char* why = "";                  // static text
+  double solid_fraction = 0;             // ν
+  double granular_temperature = 0;       // T, m²/s²
+  double scaled_temperature = 0;         // T / (d γ̇)²
+  double shear_stress = 0;               // τ = τ_FC + τ_COL + τ_L, Pa
   double force_chain_normal_stress = 0;  // σ_yy,FC (= p_FC on the line with lode_zero), Pa
   double collisional_pressure = 0;       // p_COL = ρ_p f1 T, Pa
   double force_chain_shear_stress = 0;   // τ_FC = μ_FC p_FC, Pa
   double collisional_shear_stress = 0;   // τ_COL = ρ_p d f2 T^½ γ̇, Pa
   double liquid_shear_stress = 0;        // τ_L = η(ν) γ̇, Pa
-  double friction = 0;              // μ = τ / p
-  double inertial_number = 0;       // I = γ̇ d / sqrt(p/ρ_p)
-  double viscous_number = 0;        // J = η0 γ̇ / p (0 when dry)
+  double friction = 0;                   // μ = τ / p
+  double inertial_number = 0;            // I = γ̇ d / sqrt(p/ρ_p)
+  double viscous_number = 0;             // J = η0 γ̇ / p (0 when dry)
 };
 
 // Steady state at (γ̇, p). Requires settings.collisional (throws std::invalid_argument

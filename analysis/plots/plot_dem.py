@@ -2,12 +2,12 @@
 """PNG plots of a `kind: dem` run (result.h5, docs/dem_dataset.md).
 Every point: series_N.png (mu, sigma_yy, phi, T against strain, steady start marked) and
 profile_N.png (steady mean velocity profile against the imposed line).
-Sweeps: mu_I.png, phi_I.png, T_I.png with the mu(I) law of model.md section 7 overlaid:
+Sweeps: mu_I.png, phi_I.png, T_I.png with the mu(I) law of docs/dem_dataset.md overlaid:
   mu(I) = mu_s + (mu_2 - mu_s) / (I_0 / I + 1)  (GDR MiDi 2004; Jop et al. 2006:
   mu_s = 0.38, mu_2 = 0.64, I_0 = 0.28), frictionless mu_s ~ 0.10 (Peyneau & Roux 2008),
   critical fractions nu_c ~ 0.587 (mu_p = 0.5) and 0.639 (frictionless) (Chialvo et al. 2012).
 Immersed sweeps (liquid.enabled; /steady/viscous_number present): mu_J.png, phi_J.png, mu_K.png,
-mu_phi_wet_I.png, stress_parts.png, with Boyer et al. (2011) (model.md section 7):
+mu_phi_wet_I.png, stress_parts.png, with Boyer et al. (2011) (docs/dem_dataset.md):
   mu(J) = mu_1 + (mu_2 - mu_1)/(1 + J_0/J) + J + (5/2) nu_m J^(1/2),  phi(J) = nu_m/(1 + J^(1/2)),
   mu_1 = 0.32, mu_2 = 0.7, J_0 = 0.005, nu_m = 0.585; against K = J + alpha I^2 the same law in K
   (Trulsson et al. 2012 form), alpha = fit.alpha of summary.json if present, else the case's.
@@ -54,7 +54,7 @@ def boyer_mu_h(J):
     return J + 2.5 * BOYER_NU_M * np.sqrt(J)
 
 
-# Published DEM values (model.md section 7): (mu_s low, mu_s high, phi_c, source).
+# Published DEM values (docs/dem_dataset.md): (mu_s low, mu_s high, phi_c, source).
 PUBLISHED = {0.5: (0.35, 0.38, 0.587, "Chialvo 2012"), 0.0: (0.10, 0.10, 0.639, "Peyneau & Roux 2008")}
 
 

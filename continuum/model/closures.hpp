@@ -1,5 +1,5 @@
-// The collisional (extended kinetic theory) and liquid closures of docs: ../shared/docs/model.md
-// §3-4, gathered behind one value-type interface. Each closure lives in its own file
+// The collisional (extended kinetic theory) and liquid closures of docs/model/closures.md,
+// gathered behind one value-type interface. Each closure lives in its own file
 // (g0_carnahan_starling.hpp, permeability_kozeny_carman.hpp, ...) and is selected by name in the
 // case file; the selection is an enum resolved once, so hot loops do a switch, never a string
 // look-up or a virtual call.
@@ -57,7 +57,8 @@ struct LiquidParameters {
   double sphericity = 1.0;  // A of seed Eq. 26
 };
 
-// ---- collisional coefficients (model.md §3) -------------------------------------------------
+// ---- collisional coefficients (docs/model/closures.md)
+// -------------------------------------------------
 struct CollisionalCoefficients {
   double nu = 0;       // ν
   double g0 = 0;       // radial distribution at contact
@@ -100,9 +101,10 @@ double collisional_dissipation_at_shear_rate(const CollisionalParameters& p,
 // The T arguments above must be ≥ 0 (a negative T yields NaN, caught by the caller's
 // check_finite with step, point and variable).
 
-// ---- liquid (model.md §4) ---------------------------------------------------------------------
-// Largest admissible ν for η(ν): ν_m (`maximum_packing`) for Krieger-Dougherty and Boyer (both
-// singular there), 1 for Einstein.
+// ---- liquid (docs/model/closures.md)
+// --------------------------------------------------------------------- Largest admissible ν for
+// η(ν): ν_m (`maximum_packing`) for Krieger-Dougherty and Boyer (both singular there), 1 for
+// Einstein.
 double maximum_mixture_solid_fraction(const LiquidParameters& l);
 // η(ν) for 0 ≤ ν < maximum_mixture_solid_fraction(l); outside it throws std::domain_error.
 double mixture_viscosity(const LiquidParameters& l, double nu);  // η(ν), Pa s

@@ -88,7 +88,7 @@ inline double correlation_length(const CollisionalParameters& p, const Collision
   return p.diameter;
 }
 
-// p_COL = ρ_p f1 T (model.md §3).
+// p_COL = ρ_p f1 T (docs/model/closures.md).
 inline double collisional_pressure(const CollisionalParameters& p, const CollisionalCoefficients& c,
                                    double T) {
   return p.particle_density * c.f1 * T;

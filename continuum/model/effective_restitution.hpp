@@ -3,7 +3,8 @@
 // effective restitution goes back to Jenkins & Zhang 2002, Phys. Fluids 14, 1228):
 //   ε = e_r - (3/2) μ_p exp(-3 μ_p).
 // The correction is largest at μ_p = 1/3, where it equals 1/(2e) = 0.184. ε enters only the
-// collisional dissipation f3 and the correlation length; J, F and M use e_r (model.md §3).
+// collisional dissipation f3 and the correlation length; J, F and M use e_r
+// (docs/model/closures.md).
 #pragma once
 
 #include <cmath>

@@ -1,6 +1,6 @@
 // Effective viscosity of a dilute suspension of rigid spheres, Einstein (1906, 1911):
 //   η(ν) = η0 (1 + 2.5 ν).
-// Used here as the liquid-phase viscosity η of seed Eq. 27 (model.md §4). Not singular.
+// Used here as the liquid-phase viscosity η of seed Eq. 27 (docs/model/closures.md). Not singular.
 #pragma once
 
 namespace granflow::model {

@@ -123,7 +123,8 @@ core::Schema terzaghi_schema() {
   l.number("grain_diameter", "m", "d of the permeability closure")
       .default_value("1.0e-3")
       .greater_than(0);
-  l.choice("permeability", model::permeability_names(), "permeability closure (model.md §4)")
+  l.choice("permeability", model::permeability_names(),
+           "permeability closure (docs/model/closures.md)")
       .default_value("seed_eq26");
   l.number("sphericity", "1", "A of seed Eq. 26").default_value("1.0").greater_than(0);
   auto& ld = s.section("loading", "surface load");
@@ -571,7 +572,7 @@ int run_column(core::RunContext& ctx) {
   return core::exit_ok;
 }
 
-// ---- rheometer (issue 8; docs/rheometer.md) ----------------------------------------------------
+// ---- rheometer (docs/rheometer.md) -------------------------------------------------------------
 
 core::Schema rheometer_schema() {
   core::Schema s = core::kind_header(

@@ -135,7 +135,7 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
     shear_rate_[k] = continuum::MultiRegimePoint::shear_rate(strain_rate);
     v.temperature[p] = st.granular_temperature;
     if (v.conductivity) {
-      // κ_T = ρ_p d f4(ν) T^½ (model::collisional_conductivity; model.md §3)
+      // κ_T = ρ_p d f4(ν) T^½ (model::collisional_conductivity; docs/model/closures.md)
       v.conductivity[p] = 0.0;
       if (point_.settings().collisional) {
         const auto& cp = point_.settings().collisional_parameters;

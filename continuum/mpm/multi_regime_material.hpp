@@ -1,9 +1,9 @@
 // The multi-regime model (continuum::MultiRegimePoint: σ = σ_FC + σ_COL + σ_L with the granular
-// temperature T; seed Eq. 7, 19, 24; model.md §1, §6) as an MPM solid material. One call per step
-// over the material's range of points; the state lives in this object's own arrays (structure of
-// arrays, indexed by point - begin): σ_FC (xx, yy, zz, xy), the yield-locus axis χ (xx, yy, zz,
-// xy), r_c and e. T is the solver's solid-point array (carried by the points, remapped and
-// conducted by the solver).
+// temperature T; seed Eq. 7, 19, 24; docs/model/multi_regime.md, §6) as an MPM solid material. One
+// call per step over the material's range of points; the state lives in this object's own arrays
+// (structure of arrays, indexed by point - begin): σ_FC (xx, yy, zz, xy), the yield-locus axis χ
+// (xx, yy, zz, xy), r_c and e. T is the solver's solid-point array (carried by the points, remapped
+// and conducted by the solver).
 //
 // Coupling to the double-point solver (docs/rheometer.md):
 //  * the solver's effective stress σ' (tension positive) is -(σ_FC + σ_COL + σ_L): the skeleton,

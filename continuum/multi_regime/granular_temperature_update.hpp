@@ -1,5 +1,5 @@
 // Local update of the granular temperature T over one step, for the energy balance of
-// model.md §5 (seed Eq. 21) at a homogeneous material point (no flux divergence):
+// docs/model/multi_regime.md §3 (seed Eq. 21) at a homogeneous material point (no flux divergence):
 //
 //   (3/2) ρ_p ν dT/dt = σ_COL : D - Γ - Λ
 //
@@ -12,7 +12,8 @@
 // (tension-positive D: tr D > 0 is expansion, which cools; compaction heats). With a, b, c frozen
 // over the step it has the exact solution used below: it stays non-negative and converges to the
 // root s* = (-c + sqrt(c² + 4ab)) / (2b) for any step size, which is what "stable for any time step
-// the mechanics allows" requires (model.md §5). Coefficients are re-evaluated each step.
+// the mechanics allows" requires (docs/model/multi_regime.md §3). Coefficients are re-evaluated
+// each step.
 #pragma once
 
 #include <algorithm>

@@ -27,7 +27,7 @@ core::Field material_section() {
 
 core::Field collisional_section() {
   core::Field c("collisional", core::ValueType::section, "",
-                "extended kinetic theory term σ_COL, Γ and the T balance (model.md §3)");
+                "extended kinetic theory term σ_COL, Γ and the T balance (docs/model/closures.md)");
   c.boolean("enabled", "switch the collisional term on/off").default_value("true");
   c.choice("radial_distribution", model::radial_distribution_names(), "g0 at contact")
       .default_value("chialvo_sundaresan");
@@ -49,7 +49,7 @@ core::Field collisional_section() {
 
 core::Field liquid_section() {
   core::Field l("liquid", core::ValueType::section, "",
-                "interstitial liquid: σ_L, η(ν), drag, Λ (model.md §4)");
+                "interstitial liquid: σ_L, η(ν), drag, Λ (docs/model/closures.md)");
   l.boolean("enabled", "switch the liquid terms on/off (off: dry)").default_value("false");
   l.number("viscosity", "Pa s", "liquid viscosity η0").default_value("1.0e-3").greater_than(0);
   l.number("density", "kg/m^3", "liquid density ρ_L").default_value("1000").greater_than(0);
@@ -83,9 +83,10 @@ std::string yaml_number(double value) { return fmt::format("{}", value); }
 core::Field force_chains_section(bool enabled_by_default) {
   using model::force_chains::ForceChainParameters;
   const ForceChainParameters d{};
-  core::Field f("force_chains", core::ValueType::section, "",
-                "force-chain term σ_FC = σ' (strain-hardening elasto-plasticity, model.md §2; "
-                "equations and sources in docs/model/force_chains.md). Compression positive.");
+  core::Field f(
+      "force_chains", core::ValueType::section, "",
+      "force-chain term σ_FC = σ' (strain-hardening elasto-plasticity, docs/model/force_chains.md; "
+      "equations and sources in docs/model/force_chains.md). Compression positive.");
   f.boolean("enabled",
             enabled_by_default
                 ? "switch the force-chain term on/off (off: the kinetic-theory-only steady model)"

@@ -1,15 +1,15 @@
-// The multi-regime material point (seed Eq. 7, 19, 24; model.md §1): the stress is a sum of
-// terms working in parallel,
+// The multi-regime material point (seed Eq. 7, 19, 24; docs/model/multi_regime.md): the stress is a
+// sum of terms working in parallel,
 //     σ = σ_FC + σ_COL + σ_L,
-// and the granular temperature T follows the energy balance of model.md §5 (seed Eq. 21).
-// Terms switched off in the case are skipped by one branch per update, outside any inner loop,
-// so they cost nothing. The force-chain term σ_FC (model.md §2,
+// and the granular temperature T follows the energy balance of docs/model/multi_regime.md §3 (seed
+// Eq. 21). Terms switched off in the case are skipped by one branch per update, outside any inner
+// loop, so they cost nothing. The force-chain term σ_FC (docs/model/force_chains.md,
 // model::force_chains::ForceChainModel) is the effective stress σ' of the skeleton; it is rate
 // independent and carries the state (σ_FC, χ, r_c). T raises p_COL; under an imposed total stress
 // (REV drivers, rev/element_test.hpp) the force-chain part therefore unloads as p_COL rises.
 //
 // Sign convention inside granflow's constitutive code: compression-positive stress and strain
-// rate (soil mechanics, model.md §0): tr(ε̇) > 0 is compaction.
+// rate (soil mechanics, docs/model/multi_regime.md §1): tr(ε̇) > 0 is compaction.
 #pragma once
 
 #include <Eigen/Core>

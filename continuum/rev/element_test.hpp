@@ -1,10 +1,11 @@
 // Laboratory element tests of one multi-regime material point (REV), all terms in parallel
-// (σ = σ_FC + σ_COL + σ_L, model.md §1): axisymmetric triaxial compression at imposed deviatoric
-// strain rate ε̇_d with the total radial (cell) stress held, drained, undrained or consolidating;
-// and isotropic compression at imposed volumetric strain rate. docs/model/multi_regime.md.
+// (σ = σ_FC + σ_COL + σ_L, docs/model/multi_regime.md): axisymmetric triaxial compression at
+// imposed deviatoric strain rate ε̇_d with the total radial (cell) stress held, drained, undrained
+// or consolidating; and isotropic compression at imposed volumetric strain rate.
+// docs/model/multi_regime.md.
 //
-// Sign convention: compression positive (model.md §0). Axis 0 is the axial direction.
-// ε_d = (2/3)(ε_a - ε_r), ε_v = ε_a + 2 ε_r, q = σ_a - σ_r, p = tr σ / 3, p' = p_FC.
+// Sign convention: compression positive (docs/model/multi_regime.md §1). Axis 0 is the axial
+// direction. ε_d = (2/3)(ε_a - ε_r), ε_v = ε_a + 2 ε_r, q = σ_a - σ_r, p = tr σ / 3, p' = p_FC.
 //
 // Pore pressure (the liquid carries u_w I in σ_L, seed Eq. 27). Grains incompressible, liquid of
 // bulk modulus K_w, porosity n: the liquid's volume change equals the mixture's, so

@@ -15,7 +15,8 @@ core::Schema simple_shear_schema() {
   core::Schema s = core::kind_header(
       "rev", "simple_shear",
       "Homogeneous simple shear of one material point at imposed shear rate, at constant volume "
-      "or constant normal stress, integrated to steady state (model.md §3-5). With force_chains "
+      "or constant normal stress, integrated to steady state (docs/model/closures.md and "
+      "multi_regime.md). With force_chains "
       "enabled the skeleton σ_FC works in parallel: all terms (at constant normal stress by "
       "mixed control of ε̇_yy, docs/model/multi_regime.md §4.1; initial.effective_pressure is then "
       "replaced by p - p_COL(ν0, T0)).");
@@ -107,17 +108,17 @@ void check_simple_shear(const core::Case& c) {
         1.0 / (1.0 + (c.has("loading.void_ratio") ? c.number("loading.void_ratio") : 0.8));
     if (settings.force_chains &&
         nu0 >= model::maximum_solid_fraction(settings.collisional_parameters))
-      c.fail("loading.void_ratio",
-             fmt::format("initial solid fraction 1/(1+e) = {:.6g} is at or beyond the jamming "
-                         "fraction {:.6g}; expected e > {:.6g}",
-                         nu0, model::maximum_solid_fraction(settings.collisional_parameters),
-                         1.0 / model::maximum_solid_fraction(settings.collisional_parameters) -
-                             1.0));
+      c.fail(
+          "loading.void_ratio",
+          fmt::format("initial solid fraction 1/(1+e) = {:.6g} is at or beyond the jamming "
+                      "fraction {:.6g}; expected e > {:.6g}",
+                      nu0, model::maximum_solid_fraction(settings.collisional_parameters),
+                      1.0 / model::maximum_solid_fraction(settings.collisional_parameters) - 1.0));
     // Dry kinetic theory has a dense steady state only below I_max (with liquid, Λ lowers T and
     // the bound moves, with force chains the skeleton can carry p: then detected at run time).
     if (!settings.liquid && !settings.force_chains &&
         settings.collisional_parameters.correlation_length ==
-                                model::CorrelationLengthKind::diameter) {
+            model::CorrelationLengthKind::diameter) {
       const auto bound = maximum_steady_inertial_number(settings.collisional_parameters);
       const double I = c.number("loading.shear_rate") * settings.collisional_parameters.diameter /
                        std::sqrt(c.number("loading.normal_stress") /
@@ -233,15 +234,34 @@ int run_simple_shear_case(core::RunContext& ctx) {
       packed.numbers(*v);
     const auto& st = r.steady;
     packed.integer(st.reached ? 1 : 0);
-    for (double v :
-         {st.strain, st.void_ratio, st.solid_fraction, st.granular_temperature, st.pressure,
-          st.effective_pressure, st.force_chain_shear_stress, st.yield_size, st.shear_stress,
-          st.collisional_shear_stress, st.liquid_shear_stress, st.friction, st.inertial_number,
-          st.viscous_number, st.normal_stress, st.force_chain_normal_stress,
-          st.collisional_normal_stress, st.liquid_normal_stress, st.share_tau_force_chains,
-          st.share_tau_collisional, st.share_tau_liquid, st.share_normal_force_chains,
-          st.share_normal_collisional, st.share_normal_liquid, r.min_time_step, r.max_time_step,
-          r.max_explicit_ratio, r.max_normal_stress_residual})
+    for (double v : {st.strain,
+                     st.void_ratio,
+                     st.solid_fraction,
+                     st.granular_temperature,
+                     st.pressure,
+                     st.effective_pressure,
+                     st.force_chain_shear_stress,
+                     st.yield_size,
+                     st.shear_stress,
+                     st.collisional_shear_stress,
+                     st.liquid_shear_stress,
+                     st.friction,
+                     st.inertial_number,
+                     st.viscous_number,
+                     st.normal_stress,
+                     st.force_chain_normal_stress,
+                     st.collisional_normal_stress,
+                     st.liquid_normal_stress,
+                     st.share_tau_force_chains,
+                     st.share_tau_collisional,
+                     st.share_tau_liquid,
+                     st.share_normal_force_chains,
+                     st.share_normal_collisional,
+                     st.share_normal_liquid,
+                     r.min_time_step,
+                     r.max_time_step,
+                     r.max_explicit_ratio,
+                     r.max_normal_stress_residual})
       packed.number(v);
     packed.integer(r.steps);
     packed.integer(r.solver_evaluations);
@@ -267,15 +287,34 @@ int run_simple_shear_case(core::RunContext& ctx) {
       *v = packed.numbers();
     auto& s = r.steady;
     s.reached = packed.integer() != 0;
-    for (double* v :
-         {&s.strain, &s.void_ratio, &s.solid_fraction, &s.granular_temperature, &s.pressure,
-          &s.effective_pressure, &s.force_chain_shear_stress, &s.yield_size, &s.shear_stress,
-          &s.collisional_shear_stress, &s.liquid_shear_stress, &s.friction, &s.inertial_number,
-          &s.viscous_number, &s.normal_stress, &s.force_chain_normal_stress,
-          &s.collisional_normal_stress, &s.liquid_normal_stress, &s.share_tau_force_chains,
-          &s.share_tau_collisional, &s.share_tau_liquid, &s.share_normal_force_chains,
-          &s.share_normal_collisional, &s.share_normal_liquid, &r.min_time_step,
-          &r.max_time_step, &r.max_explicit_ratio, &r.max_normal_stress_residual})
+    for (double* v : {&s.strain,
+                      &s.void_ratio,
+                      &s.solid_fraction,
+                      &s.granular_temperature,
+                      &s.pressure,
+                      &s.effective_pressure,
+                      &s.force_chain_shear_stress,
+                      &s.yield_size,
+                      &s.shear_stress,
+                      &s.collisional_shear_stress,
+                      &s.liquid_shear_stress,
+                      &s.friction,
+                      &s.inertial_number,
+                      &s.viscous_number,
+                      &s.normal_stress,
+                      &s.force_chain_normal_stress,
+                      &s.collisional_normal_stress,
+                      &s.liquid_normal_stress,
+                      &s.share_tau_force_chains,
+                      &s.share_tau_collisional,
+                      &s.share_tau_liquid,
+                      &s.share_normal_force_chains,
+                      &s.share_normal_collisional,
+                      &s.share_normal_liquid,
+                      &r.min_time_step,
+                      &r.max_time_step,
+                      &r.max_explicit_ratio,
+                      &r.max_normal_stress_residual})
       *v = packed.number();
     r.steps = static_cast<long>(packed.integer());
     r.solver_evaluations = static_cast<long>(packed.integer());
@@ -347,7 +386,8 @@ int run_simple_shear_case(core::RunContext& ctx) {
       sum.set("steady.J" + suffix, s.viscous_number);
       sum.set("steady.K" + suffix, K);
     }
-    // The closed form of model.md §3 (no liquid, L = d): T = (f2/f3) d² γ̇², μ = sqrt(f2 f3)/f1.
+    // The closed form of docs/model/closures.md (no liquid, L = d): T = (f2/f3) d² γ̇², μ = sqrt(f2
+    // f3)/f1.
     if (settings.collisional && !settings.liquid && !settings.force_chains &&
         settings.collisional_parameters.correlation_length ==
             model::CorrelationLengthKind::diameter) {

@@ -1,9 +1,10 @@
 // Homogeneous steady simple shear of a material point (REV) at imposed shear rate γ̇, at constant
 // volume (imposed void ratio) or constant normal stress (imposed p on the granular phase; e
-// evolves). T is integrated in time from the energy balance (model.md §5) until a steady state is
-// detected. The closed forms of model.md §3 are its first check. At constant normal stress with
-// the force chains on, each step is a mixed control (ε̇_xy imposed, ε̇_xx = ε̇_zz = 0, ε̇_yy solved
-// so that σ_yy = p; rev/simple_shear_mixed_control.hpp, docs/model/multi_regime.md §4.1).
+// evolves). T is integrated in time from the energy balance (docs/model/multi_regime.md §3) until a
+// steady state is detected. The closed forms of docs/model/closures.md are its first check. At
+// constant normal stress with the force chains on, each step is a mixed control (ε̇_xy imposed, ε̇_xx
+// = ε̇_zz = 0, ε̇_yy solved so that σ_yy = p; rev/simple_shear_mixed_control.hpp,
+// docs/model/multi_regime.md §4.1).
 #pragma once
 
 #include <functional>

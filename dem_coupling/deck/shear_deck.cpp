@@ -15,7 +15,7 @@ namespace granflow::dem {
 namespace {
 
 // Random close packing of monodisperse spheres; polydisperse packings reach a little more, but
-// a sheared sample above ~0.64 cannot exist (Berryman 1983; model.md section 7).
+// a sheared sample above ~0.64 cannot exist (Berryman 1983; docs/dem_dataset.md).
 constexpr double max_solid_fraction = 0.64;
 
 // Uniform double in [0, 1) from the 53 high bits; mt19937_64 is fully specified by the C++

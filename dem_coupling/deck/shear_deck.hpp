@@ -45,7 +45,7 @@ struct DemMaterial {
 // pair_coeff) for one atom type; `mean_diameter` sets the hooke damping rate (see ContactLaw).
 std::string contact_law_commands(const DemMaterial& m, double mean_diameter);
 
-// Immersed shear (issue 5): `fix gf_fluid all fluid/le ...` after the shear fix
+// Immersed shear: `fix gf_fluid all fluid/le ...` after the shear fix
 // (docs/dem_fluid.md). Gaps are in units of the number-mean diameter d (material.diameter).
 struct WetShear {
   bool enabled = false;

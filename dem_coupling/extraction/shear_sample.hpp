@@ -11,7 +11,7 @@
 // like LAMMPS pressure):
 //   P^kin_ab = (1/V) sum_i m_i v'_ia v'_ib                  (e.g. Campbell 1989, eq. 2.3)
 // Total stress P = P^vir + P^kin, P^vir from `compute pressure ... virial` (pair + fix virials).
-// Granular temperature T = sum_i |v'_i|^2 / (3 N) (number average, model.md section 0).
+// Granular temperature T = sum_i |v'_i|^2 / (3 N) (number average, docs/model/multi_regime.md §1).
 // Shear stress tau = -P_xy, normal stress sigma_yy = P_yy, mu = tau / sigma_yy,
 // mean pressure p = tr(P)/3, inertial number I = shear_rate d / sqrt(sigma_yy / rho_p)
 // (GDR MiDi 2004), solid fraction phi = V_s / V, void ratio e = 1/phi - 1,

@@ -333,8 +333,9 @@ inline std::string dem_fits_markdown(const DemFits& f, const DemSteadyTable& t) 
     md +=
         "## μ(I) and φ(I) fits (weighted by the DEM standard errors)\n\n"
         "The law is chosen per friction (dem_coupling/kind/inertial_law_fit.hpp): GDR MiDi for "
-        "frictional spheres, μ(I) = μ_s + (μ_2 − μ_s)/(1 + I_0/I), φ(I) = φ_c − a I (model.md "
-        "§7); Peyneau & Roux 2008 for frictionless spheres, μ(I) = μ_0 + c I^α, φ(I) = φ_RCP − "
+        "frictional spheres, μ(I) = μ_s + (μ_2 − μ_s)/(1 + I_0/I), φ(I) = φ_c − a I "
+        "(docs/dem_dataset.md); Peyneau & Roux 2008 for frictionless spheres, μ(I) = μ_0 + c I^α, "
+        "φ(I) = φ_RCP − "
         "b I^β; every parameter fitted. Residuals are (DEM − fit)/SE; χ²_red ≈ 1 when the points "
         "lie on the law within their error bars. μ(0) and φ(0) are the I → 0 limits (μ_s or μ_0, "
         "φ_c or φ_RCP).\n\n"

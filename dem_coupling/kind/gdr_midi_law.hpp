@@ -1,4 +1,4 @@
-// The dense inertial rheology of frictional spheres (model.md §7):
+// The dense inertial rheology of frictional spheres (docs/dem_dataset.md):
 //   μ(I) = μ_s + (μ_2 − μ_s)/(1 + I_0/I)   (GDR MiDi 2004, Eur. Phys. J. E 14, 341; Jop,
 //                                           Forterre & Pouliquen 2006, Nature 441, 727),
 //   φ(I) = φ_c − a I                        (da Cruz et al. 2005, Phys. Rev. E 72, 021309).

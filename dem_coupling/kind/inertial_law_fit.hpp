@@ -1,4 +1,4 @@
-// The dry inertial rheology fitted to DEM steady points (issue 4), one fit per interparticle
+// The dry inertial rheology fitted to DEM steady points, one fit per interparticle
 // friction μ_p, the law selected by name:
 //   "gdr_midi"      frictional spheres (μ_p > 0): μ = μ_s + (μ_2 − μ_s)/(1 + I_0/I), φ = φ_c − a I
 //                   (gdr_midi_law.hpp);

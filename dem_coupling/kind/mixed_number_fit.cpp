@@ -7,7 +7,7 @@
 namespace granflow::dem {
 
 double boyer_friction(double viscous_number) {
-  // Boyer, Guazzelli & Pouliquen 2011 (model.md §7).
+  // Boyer, Guazzelli & Pouliquen 2011 (docs/dem_dataset.md).
   constexpr double mu_1 = 0.32, mu_2 = 0.7, j_0 = 0.005, nu_m = 0.585;
   const double j = viscous_number;
   return mu_1 + (mu_2 - mu_1) / (1.0 + j_0 / j) + j + 2.5 * nu_m * std::sqrt(j);

@@ -2,7 +2,7 @@
 // Ness & Sun 2015) fitted from a wet DEM sweep so that μ collapses on one smooth μ(K).
 //
 // Method (one-parameter weighted least squares): the smooth curve is Boyer, Guazzelli & Pouliquen
-// (2011, PRL 107, 188301)'s μ(J) law with J replaced by K (model.md §7),
+// (2011, PRL 107, 188301)'s μ(J) law with J replaced by K (docs/dem_dataset.md),
 //   μ_B(K) = μ1 + (μ2 − μ1)/(1 + J0/K) + K + (5/2) ν_m K^½,  μ1 = 0.32, μ2 = 0.7, J0 = 0.005,
 //   ν_m = 0.585,
 // which is the viscous limit (α I² ≪ J) exactly; α minimises

@@ -1,4 +1,4 @@
-// Immersed DEM sweeps (issue 5): a free viscous-inertial law in the mixed number and the split of
+// Immersed DEM sweeps: a free viscous-inertial law in the mixed number and the split of
 // Boyer's μ(J) into its contact and hydrodynamic parts.
 //
 // Mixed number K = J + α I² (Trulsson, Andreotti & Claudin 2012, PRL 109, 118305; Ness & Sun 2015)
@@ -9,7 +9,8 @@
 // This replaces the one-parameter α of mixed_number_fit.hpp (Boyer's constants imposed), which is
 // biased when the DEM's μ(J) constants differ from Boyer's beads.
 //
-// Boyer, Guazzelli & Pouliquen 2011 (PRL 107, 188301; model.md §7): μ(J) = μ_c(J) + μ_h(J) with
+// Boyer, Guazzelli & Pouliquen 2011 (PRL 107, 188301; docs/dem_dataset.md): μ(J) = μ_c(J) + μ_h(J)
+// with
 //   contact part      μ_c(J) = μ1 + (μ2 − μ1)/(1 + J0/J),  μ1 = 0.32, μ2 = 0.7, J0 = 0.005,
 //   hydrodynamic part μ_h(J) = J + (5/2) ν_m J^½,          ν_m = 0.585,
 // and φ(J) = ν_m/(1 + J^½). The DEM's τ_contact/σ_yy is compared with μ_c and τ_lub/σ_yy with μ_h:

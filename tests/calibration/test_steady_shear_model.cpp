@@ -1,6 +1,6 @@
-// The calibration's algebraic steady simple shear against (1) the closed form of model.md §3 and
-// (2) the time-stepped REV (rev::run_simple_shear, constant_pressure): two independent paths to
-// the same steady state.
+// The calibration's algebraic steady simple shear against (1) the closed form of
+// docs/model/closures.md and (2) the time-stepped REV (rev::run_simple_shear, constant_pressure):
+// two independent paths to the same steady state.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -24,7 +24,8 @@ continuum::MultiRegimeSettings dry_settings() {
 }
 
 TEST(CalibrationSteadyShear, DryClosedForm) {
-  // L = d, no liquid: T = (f2/f3) d² γ̇², μ = sqrt(f2 f3)/f1 and p_COL(ν, T) = p (model.md §3).
+  // L = d, no liquid: T = (f2/f3) d² γ̇², μ = sqrt(f2 f3)/f1 and p_COL(ν, T) = p
+  // (docs/model/closures.md).
   const auto s = dry_settings();
   const double gamma_dot = 20, p = 100;
   const auto st = steady_simple_shear(s, {}, gamma_dot, p);

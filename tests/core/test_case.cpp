@@ -1,5 +1,5 @@
 // Case validation: every class of bad input gives one error naming file:line, the key path and
-// what was expected (issue 2, item 5), and overrides/sweeps follow the same rules.
+// what was expected, and overrides/sweeps follow the same rules.
 #include <gtest/gtest.h>
 #include <unistd.h>
 

@@ -88,7 +88,7 @@ TEST(DemCli, SmallCaseRunsEndToEndAndWritesTheIssueKeys) {
   EXPECT_NE(read(run / "log.txt").find("granflow-dem in.granflow"), std::string::npos);
 }
 
-// The same case immersed (issue 5): η0 = 0.01 Pa s, St = ρ_p d² γ̇/η0 = 12.5, drag + rotational
+// The same case immersed: η0 = 0.01 Pa s, St = ρ_p d² γ̇/η0 = 12.5, drag + rotational
 // drag + lubrication (fix fluid/le); Δt set by the contact (lubrication τ_n = 5e-5 s ≫ Δt).
 std::string wet_case() {
   return std::string(small_case) + R"(liquid:
@@ -173,7 +173,7 @@ TEST(DemCli, LiggghtsErrorIsSurfacedWithExitCode4AndTheRunDirectoryIsKept) {
 }
 
 TEST(DemCli, SweepContinuesAfterAFailedPointAndFlagsIt) {
-  // Issue 4: a two-point sweep whose first point fails in LIGGGHTS (a wrapper breaks the deck of
+  // A two-point sweep whose first point fails in LIGGGHTS (a wrapper breaks the deck of
   // point_0 only). The second point still runs; the failed row of /steady is NaN, the other is
   // finite; summary.json flags the failure (sweep.failed.0, sweep.failed_points) and has no
   // steady.*.0 keys; the exit code is 4 (external program failed).

@@ -1,7 +1,7 @@
 // The rheology fits of DEM sweeps (dem_coupling/kind/): weighted least squares
 // (analysis/least_squares.hpp), μ(I) and φ(I) with the law chosen per friction (GDR MiDi for
-// frictional, Peyneau & Roux for frictionless spheres; issue 4), the free mixed-number law μ(K)
-// with α and Boyer's contact/hydrodynamic split (issue 5). Synthetic data with known parameters
+// frictional, Peyneau & Roux for frictionless spheres), the free mixed-number law μ(K)
+// with α and Boyer's contact/hydrodynamic split. Synthetic data with known parameters
 // and Gaussian noise of known σ.
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // Collisional (extended kinetic theory) closures: closed forms of homogeneous steady simple
-// shear, dilute limits, published values and independent re-derivations (model.md §3).
+// shear, dilute limits, published values and independent re-derivations (docs/model/closures.md).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -162,7 +162,7 @@ TEST(ClosuresGarzoDufty1999, TransportCoefficientsMatchTheirOwnForm) {
       EXPECT_LT(relative_difference(c.f4, 25.0 * sqrt_pi / 128.0 * kappa), 1e-11) << nu << " " << e;
       // Pressure p = n T p*, p* = 1 + 2(1+e)φχ, and cooling: Γ = (3/2) n T ζ* ν0 with
       // ν0 = n T/η0 the Chapman-Enskog collision frequency (η0 = (5√π/96) ρ_p d T^½) and ε in
-      // place of e in ζ* (model.md §3). n T = ρ_p ν T in granular units.
+      // place of e in ζ* (docs/model/closures.md). n T = ρ_p ν T in granular units.
       const double T = 0.7;
       const double nT = p.particle_density * nu * T;
       EXPECT_LT(relative_difference(gm::collisional_pressure(p, c, T),

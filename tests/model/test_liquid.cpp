@@ -1,4 +1,5 @@
-// Liquid closures: mixture viscosity η(ν), permeability, drag, Λ with R_diss (model.md §4).
+// Liquid closures: mixture viscosity η(ν), permeability, drag, Λ with R_diss
+// (docs/model/closures.md).
 #include <gtest/gtest.h>
 
 #include <cmath>

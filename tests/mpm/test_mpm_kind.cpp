@@ -1,5 +1,5 @@
 // The `mpm` case kind end to end: the case files of cases/mpm/ validate, run into a run directory
-// and report the summary keys of issue 7 with the accuracy of the solver tests; bad input names
+// and report the summary keys with the accuracy of the solver tests; bad input names
 // the key.
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // kind: pair end to end: a tiny dry DEM (200 spheres, 2 strain units, 1 rank) and the continuum
-// at the same two conditions; table, summary keys of issue 6, report.
+// at the same two conditions; table, summary keys, report.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -58,7 +58,7 @@ TEST(PairKind, TinyPairRunsEndToEnd) {
          {"mu_dem", "mu_dem_err", "mu_cont", "T_dem", "T_cont", "e_dem", "e_cont", "rel_err_mu"})
       EXPECT_TRUE(s.contains(k + key)) << k + key;
     // The DEM's μ lies in the range of dense frictional flows (0.3 - 0.7 at I = 0.1 - 0.2,
-    // model.md §7) and the continuum gives a finite μ at the same (γ̇, σ_yy).
+    // docs/dem_dataset.md) and the continuum gives a finite μ at the same (γ̇, σ_yy).
     EXPECT_GT(s.get(k + "mu_dem"), 0.2);
     EXPECT_LT(s.get(k + "mu_dem"), 0.8);
     EXPECT_TRUE(std::isfinite(s.get(k + "mu_cont")));
@@ -91,7 +91,7 @@ TEST(PairKind, TinyWetPairRunsEndToEnd) {
   head.replace(head.find(start), start.size(),
                "  solid_fraction: 0.57\n  servo_max_strain: 0.01\n");
   const std::string wet_case = head +
-      R"(liquid:
+                               R"(liquid:
   enabled: true
   viscosity: 0.25
   maximum_packing: 0.62

@@ -1,4 +1,4 @@
-// The shipped REV cases of issue 3 run from the CLI (`granflow run CASE --out DIR`) and write the
+// The shipped REV cases run from the CLI (`granflow run CASE --out DIR`) and write the
 // summary.json keys other checks rely on, with the paper's behaviour in their values. Plotting is
 // skipped (GRANFLOW_PYTHON=true) to keep the test fast; result.h5 is checked by
 // tests/rev/test_triaxial.cpp through the same driver.

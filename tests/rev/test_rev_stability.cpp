@@ -1,4 +1,4 @@
-// Stability of the REV element tests at the extremes (issue 3 item 6) and the order of
+// Stability of the REV element tests at the extremes and the order of
 // convergence of the REV stress update with the step size.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// REV simple shear against the closed forms of model.md §3 and its invariants (issue 2, item 8).
+// REV simple shear against the closed forms of docs/model/closures.md and its invariants.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -29,8 +29,9 @@ ClosedForm closed_form(const model::CollisionalParameters& p, double nu, double 
 }  // namespace
 
 TEST(SimpleShear, ConstantVolumeSteadyStateIsTheClosedForm) {
-  // model.md §3 with L = d: T = (f2/f3) d² γ̇², τ/p = sqrt(f2 f3)/f1, I = (f1 f2/f3)^(-1/2).
-  // The issue asks 1e-6 relative; the steady test stops at a 1e-10 change per unit strain.
+  // docs/model/closures.md with L = d: T = (f2/f3) d² γ̇², τ/p = sqrt(f2 f3)/f1, I = (f1
+  // f2/f3)^(-1/2). The issue asks 1e-6 relative; the steady test stops at a 1e-10 change per unit
+  // strain.
   for (auto g0 :
        {model::RadialDistributionKind::carnahan_starling, model::RadialDistributionKind::torquato,
         model::RadialDistributionKind::chialvo_sundaresan})
@@ -71,7 +72,7 @@ TEST(SimpleShear, ConstantPressureReachesTheClosedFormAtTheImposedPressure) {
 }
 
 TEST(SimpleShear, StableForStepsFarBeyondTheExplicitLimit) {
-  // Issue 2: T >= 0 and the update stable for steps up to 1e3 times the explicit limit.
+  // T >= 0 and the update stable for steps up to 1e3 times the explicit limit.
   const continuum::MultiRegimePoint point(dry());
   rev::SimpleShearControl control;
   control.shear_rate = 50;
@@ -114,8 +115,8 @@ TEST(SimpleShear, BeyondJammingIsRefusedNotNaN) {
 }
 
 TEST(SimpleShear, WetSteadyStateBalancesProductionAgainstBothSinks) {
-  // With liquid: at steady state τ_COL γ̇ = Γ + Λ (model.md §5), τ_L = η(ν) γ̇ exactly, and
-  // Λ lowers T below the dry value at the same ν.
+  // With liquid: at steady state τ_COL γ̇ = Γ + Λ (docs/model/multi_regime.md §3), τ_L = η(ν) γ̇
+  // exactly, and Λ lowers T below the dry value at the same ν.
   auto settings = dry();
   settings.liquid = true;
   settings.fluctuation_dissipation = true;

@@ -1,4 +1,4 @@
-// REV element tests with all terms (issue 3 items 3-6): undrained triaxial against the isochoric
+// REV element tests with all terms: undrained triaxial against the isochoric
 // force-chain path and the liquid compressibility, drained critical state from dense and loose,
 // isotropic compression against its closed form, the liquefaction signature of the seed's
 // section 4 case, and the order of convergence of the REV stress update.
@@ -140,9 +140,9 @@ TEST(Triaxial, LiquefactionSignatureOfTheSeedCase) {
 }
 
 TEST(Triaxial, DrainedDenseAndLooseReachTheSameCriticalState) {
-  // Critical state as attractor (model.md §2): e -> e_cs(p') and q/p' -> M_c from both sides.
-  // At ε_d = 1 the densest sample is within 0.004 of e_cs and 4 % of M_c (it approaches from
-  // above, the softening branch); the loose one is there to 1e-4.
+  // Critical state as attractor (docs/model/force_chains.md): e -> e_cs(p') and q/p' -> M_c from
+  // both sides. At ε_d = 1 the densest sample is within 0.004 of e_cs and 4 % of M_c (it approaches
+  // from above, the softening branch); the loose one is there to 1e-4.
   double e_end[2], ratio_end[2], e_cs[2];
   int i = 0;
   for (const char* e0 : {"initial.void_ratio=0.57", "initial.void_ratio=0.72"}) {

@@ -1,5 +1,5 @@
 // The force-chain (σ_FC) strain-hardening elastic-plastic model of the multi-regime material
-// (docs/model.md §2, seed §3.1; equations and parameters in docs/model/force_chains.md).
+// (docs/model/force_chains.md, seed §3.1; equations and parameters in docs/model/force_chains.md).
 //
 // SIGN CONVENTION: everything in this folder is COMPRESSION-POSITIVE (soil mechanics): stress
 // σ > 0 in compression, strain increments > 0 in shortening, p = tr(σ)/3, ε_v = tr(ε). Convert

@@ -1,7 +1,7 @@
-// Stress invariants in the soil-mechanics convention (compression positive, docs/model.md §0):
-// p = tr(σ)/3, s = σ - p I, q = sqrt(3/2 s:s), Lode angle through cos 3θ = (3√3/2) J3 / J2^{3/2}
-// with J2 = s:s/2 and J3 = det s, so that cos 3θ = +1 in triaxial compression (σ1 > σ2 = σ3)
-// and -1 in triaxial extension.
+// Stress invariants in the soil-mechanics convention (compression positive,
+// docs/model/multi_regime.md §1): p = tr(σ)/3, s = σ - p I, q = sqrt(3/2 s:s), Lode angle through
+// cos 3θ = (3√3/2) J3 / J2^{3/2} with J2 = s:s/2 and J3 = det s, so that cos 3θ = +1 in triaxial
+// compression (σ1 > σ2 = σ3) and -1 in triaxial extension.
 #pragma once
 
 #include <Eigen/Core>
