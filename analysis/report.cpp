@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/file_io.hpp"
 #include "core/process.hpp"
 #include "core/result_file.hpp"
 #include "core/run.hpp"
@@ -29,19 +30,25 @@ std::string number(double v) {
   return fmt::format("{:.6g}", v);
 }
 
-// "kind: calibrate" -> "calibrate" from the resolved case.yaml (first matching line).
-std::string case_value(const std::filesystem::path& case_file, const std::string& key) {
-  std::ifstream in(case_file);
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.rfind(key + ":", 0) == 0) {
-      std::string v = line.substr(key.size() + 1);
-      v.erase(0, v.find_first_not_of(" \t\"'"));
-      while (!v.empty() && (v.back() == ' ' || v.back() == '"' || v.back() == '\'')) v.pop_back();
-      return v;
+// The top-level scalars of the resolved case.yaml ("kind", "name", ...); empty when the file is
+// missing. `problem` says why a file that exists could not be read (it is then ignored).
+std::map<std::string, std::string> case_values(const std::filesystem::path& case_file,
+                                               std::string& problem) {
+  std::map<std::string, std::string> values;
+  if (!std::filesystem::exists(case_file)) return values;
+  try {
+    const YAML::Node root = YAML::LoadFile(case_file.string());
+    if (!root.IsMap()) {
+      problem = "not a map of case sections";
+      return values;
     }
+    for (const auto& item : root)
+      if (item.second.IsScalar()) values[item.first.as<std::string>()] = item.second.Scalar();
+  } catch (const YAML::Exception& e) {
+    problem = e.what();
+    values.clear();
   }
-  return "";
+  return values;
 }
 
 // Summary keys "a.b.c": group by the first component.
@@ -199,7 +206,13 @@ std::string dem_section(const std::filesystem::path& run_dir, core::Summary& s) 
 std::filesystem::path write_report(const std::filesystem::path& run_dir) {
   const auto summary_file = run_dir / "summary.json";
   const auto case_file = run_dir / "case.yaml";
-  const std::string kind = case_value(case_file, "kind");
+  std::string case_problem;
+  const auto case_keys = case_values(case_file, case_problem);
+  const auto case_value = [&](const std::string& key) {
+    const auto it = case_keys.find(key);
+    return it == case_keys.end() ? std::string() : it->second;
+  };
+  const std::string kind = case_value("kind");
   // An interrupted DEM sweep has result.h5 but no summary.json yet: its fits are still derived.
   const bool interrupted_dem = kind == "dem" && std::filesystem::exists(run_dir / "result.h5");
   if (!std::filesystem::exists(summary_file) && !interrupted_dem)
@@ -208,16 +221,19 @@ std::filesystem::path write_report(const std::filesystem::path& run_dir) {
                     run_dir.string()));
   core::Summary s =
       std::filesystem::exists(summary_file) ? core::Summary::read(summary_file) : core::Summary();
-  std::string name = case_value(case_file, "name");
+  std::string name = case_value("name");
   if (name.empty()) name = run_dir.filename().string();
-  const std::string description = case_value(case_file, "description");
+  const std::string description = case_value("description");
 
   std::ostringstream md;
   md << "# " << name << "\n\n";
   md << "Kind: `" << (kind.empty() ? "?" : kind) << "`";
-  const std::string test = case_value(case_file, "test");
+  const std::string test = case_value("test");
   if (!test.empty()) md << ", test: `" << test << "`";
   md << ". Run directory: `" << run_dir.string() << "`.\n\n";
+  if (!case_problem.empty())
+    md << "**case.yaml could not be read** (" << case_problem
+       << "); the kind and name above are unknown, only summary.json is reported.\n\n";
   if (!description.empty()) md << description << "\n\n";
   if (kind == "calibrate") calibrate_section(md, s);
   if (kind == "pair") pair_section(md, s);
@@ -242,7 +258,7 @@ std::filesystem::path write_report(const std::filesystem::path& run_dir) {
   md << "Files: [case.yaml](case.yaml) (the case as run), result.h5 (data), "
         "[log.txt](log.txt).\n";
   const auto out = run_dir / "report.md";
-  std::ofstream(out) << md.str();
+  core::write_text_file(out, md.str());
   return out;
 }
 

@@ -7,6 +7,7 @@
 // N ranks (core/sweep_scheduler.hpp, docs/parallel-runs.md); rank 0 writes the run directory.
 // `study closures` shares its closure combinations over the ranks the same way.
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -22,6 +23,8 @@
 #include "analysis/calibration/closure_study.hpp"
 #endif
 #include "core/case.hpp"
+#include "core/file_io.hpp"
+#include "core/interrupt.hpp"
 #include "core/process.hpp"
 #include "core/run.hpp"
 #include "core/sweep_scheduler.hpp"
@@ -93,9 +96,7 @@ int serve_run(const core::KindEntry& entry, const core::Case& c, int rank) {
   return code;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run_main(int argc, char** argv) {
   std::optional<core::MpiRanks> ranks;
   try {
     ranks.emplace(argc, argv);  // MPI only when started by mpirun
@@ -127,7 +128,8 @@ int main(int argc, char** argv) {
       kinds +
       "\nExit codes: 0 ok, 1 internal error, 2 bad input (file:line, key path, expectation),\n"
       "3 numerical failure (step, point, variable; data written so far is kept), 4 external\n"
-      "program failed (LIGGGHTS).");
+      "program failed (LIGGGHTS), 5 an output could not be written (path, system's reason),\n"
+      "130/143 interrupted by SIGINT/SIGTERM (stopped at a step boundary, files readable).");
 
   std::string case_file, out_dir;
   std::vector<std::string> sets;
@@ -182,7 +184,15 @@ int main(int argc, char** argv) {
   auto* schema = cli.add_subcommand("schema", "print the reference of every case key");
   schema->add_flag("--markdown", markdown, "Markdown (the text of docs/cases.md)");
 
-  CLI11_PARSE(cli, argc, argv);
+  // A command line that does not parse (no subcommand, an unknown option) is bad input: exit 2
+  // as documented, not CLI11's own codes (106, 109); --help exits 0.
+  try {
+    cli.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return cli.exit(e) == 0 ? core::exit_ok : core::exit_bad_input;
+  }
+  // SIGINT/SIGTERM stop a run or study at its next step boundary with readable files.
+  if (run->parsed() || study->parsed()) core::install_interrupt_handlers();
 
   // Under mpirun only `run` and `study closures` use the other ranks; anything else is done once,
   // by rank 0.
@@ -190,9 +200,8 @@ int main(int argc, char** argv) {
 
   if (closures->parsed()) {
 #ifdef GRANFLOW_HAVE_CALIBRATE_KIND
-    const int code =
-        calibration::run_closure_study_command({case_file, out_dir, sets, force, quiet, true},
-                                               ranks->rank());
+    const int code = calibration::run_closure_study_command(
+        {case_file, out_dir, sets, force, quiet, true}, ranks->rank());
     ranks->leave_run();  // every rank, so that none waits for one that stopped
     return code;
 #else
@@ -246,8 +255,9 @@ int main(int argc, char** argv) {
   if (report->parsed()) {
     try {
       std::cout << analysis::write_report(report_dir).string() << "\n";
-    } catch (const std::exception& e) {
-      std::cerr << "error: " << report_dir << ": " << e.what() << "\n";
+    } catch (...) {  // e.g. a truncated result.h5 (HDF5's exception): one line, exit 2
+      std::cerr << "error: " << report_dir << ": "
+                << core::describe_exception(std::current_exception()) << "\n";
       return core::exit_bad_input;
     }
     return core::exit_ok;
@@ -288,6 +298,12 @@ int main(int argc, char** argv) {
     return core::exit_ok;
   }
 
+  try {
+    if (loaded.entry->check_inputs) loaded.entry->check_inputs(c);
+  } catch (const core::CaseError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return leave(core::exit_bad_input);
+  }
   const fs::path dir = out_dir.empty() ? fs::path("runs") / c.name() : fs::path(out_dir);
   std::unique_ptr<core::RunContext> context;
   try {
@@ -295,6 +311,9 @@ int main(int argc, char** argv) {
   } catch (const core::CaseError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return leave(core::exit_bad_input);
+  } catch (const core::IoError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return leave(core::exit_io);
   }
   auto& log = *context->log;
   log.info("granflow run {} ({}{}) -> {}", case_file, c.kind(),
@@ -312,12 +331,54 @@ int main(int argc, char** argv) {
   } catch (const core::CaseError& e) {
     log.error("{}", e.what());
     code = core::exit_bad_input;
-  } catch (const std::exception& e) {
-    log.error("internal error: {}", e.what());
+  } catch (const core::IoError& e) {
+    log.error("{}", e.what());
+    code = core::exit_io;
+  } catch (...) {
+    log.error("internal error: {}", core::describe_exception(std::current_exception()));
     code = core::exit_failure;
   }
-  context->finish();
+  if (core::interrupted()) {
+    // The kind's loops stopped at their next step boundary and wrote what they had.
+    context->summary.set("run.interrupted", 1);
+    log.warn(
+        "interrupted by {}: the run stopped early; what it computed is in {} "
+        "(summary.json has run.interrupted = 1)",
+        core::interrupt_name(), dir.string());
+    code = core::interrupt_exit_code();
+  }
+  // summary.json holds finite numbers only: a non-finite result is a numerical failure.
+  for (const auto& key : context->summary.non_finite()) {
+    log.error("numerical failure: result {} = {} is not finite; left out of summary.json", key,
+              context->summary.get(key));
+    if (code == core::exit_ok) code = core::exit_numerical;
+  }
+  try {
+    context->finish();
+  } catch (const core::IoError& e) {
+    log.error("{}", e.what());
+    if (code == core::exit_ok || code == core::exit_failure) code = core::exit_io;
+  }
   if (code == core::exit_ok)
     log.info("finished in {:.3f} s; results in {}", context->wall_seconds(), dir.string());
   return leave(code);
+}
+
+}  // namespace
+
+// Nothing escapes to std::terminate: an unexpected exception is one line and exit 1.
+int main(int argc, char** argv) {
+  int code = core::exit_failure;
+  try {
+    code = run_main(argc, argv);
+  } catch (...) {
+    std::cerr << "error: " << core::describe_exception(std::current_exception()) << "\n";
+  }
+  if (core::hdf5_file_abandoned()) {  // HDF5's exit-time cleanup would crash on that file
+    spdlog::shutdown();
+    std::cout.flush();
+    std::cerr.flush();
+    std::_Exit(code);
+  }
+  return code;
 }

@@ -20,6 +20,9 @@ struct KindEntry {
   std::function<void(const Case&)> check;  // cross-field checks; throw via Case::fail
   std::function<int(RunContext&)> run;     // returns an ExitCode
   std::string example;                     // a case file under cases/ that uses this kind
+  // Checks of the files the case reads (data sets), made by `run` before the run directory
+  // exists (throw via Case::fail); `check` leaves them out, the files may not exist yet. Optional.
+  std::function<void(const Case&)> check_inputs = nullptr;
 };
 
 class KindRegistry {

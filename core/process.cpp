@@ -1,13 +1,18 @@
 #include "core/process.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <optional>
 #include <thread>
+
+#include "core/interrupt.hpp"
 
 extern char** environ;
 
@@ -16,7 +21,7 @@ namespace granflow::core {
 namespace {
 
 // What the child reports through the close-on-exec pipe when it cannot get to exec.
-enum class Step : int { chdir = 1, open_output = 2, exec = 3 };
+enum class Step : int { chdir = 1, open_output = 2, exec = 3, setup = 4 };
 struct ChildFailure {
   Step step;
   int error;
@@ -45,6 +50,8 @@ std::string describe(const ChildFailure& f, const std::string& program,
       return "cannot start " + program + ": cannot change to directory " + directory + ": " + why;
     case Step::open_output:
       return "cannot start " + program + ": cannot open " + output + ": " + why;
+    case Step::setup:
+      return "cannot start " + program + ": cannot set up its process group or input: " + why;
     case Step::exec:
       break;
   }
@@ -88,6 +95,13 @@ ProcessResult run_process(const std::vector<std::string>& argv_in, const Process
       [[maybe_unused]] const auto written = ::write(report[1], &f, sizeof f);
       ::_exit(127);
     };
+    // A process group of its own, so that granflow alone decides when it stops (an interrupted
+    // run stops the whole group, mpirun and its ranks included); SIGTERM when granflow dies
+    // without doing so (SIGKILL); no input (a child never reads the terminal).
+    if (::setpgid(0, 0) != 0) fail(Step::setup);
+    if (::prctl(PR_SET_PDEATHSIG, SIGTERM) != 0) fail(Step::setup);
+    if (const int null = ::open("/dev/null", O_RDONLY); null < 0 || ::dup2(null, 0) < 0)
+      fail(Step::setup);
     if (!directory.empty() && ::chdir(directory.c_str()) != 0) fail(Step::chdir);
     if (!output.empty()) {
       const int fd = ::open(output.c_str(), flags, 0644);
@@ -99,6 +113,7 @@ ProcessResult run_process(const std::vector<std::string>& argv_in, const Process
     ::execvpe(argv[0], argv.data(), envp.data());
     fail(Step::exec);
   }
+  ::setpgid(pid, pid);  // also here, so the group exists before the parent may signal it
   ::close(report[1]);
   ChildFailure failure{};
   ssize_t got = 0;
@@ -107,26 +122,38 @@ ProcessResult run_process(const std::vector<std::string>& argv_in, const Process
   } while (got < 0 && errno == EINTR);
   ::close(report[0]);
 
+  // Waits in short sleeps so that an interrupted run (SIGINT/SIGTERM, core/interrupt.hpp) stops
+  // the child's process group: SIGTERM, then SIGKILL if it is still there after a grace time.
   int status = 0;
-  if (options.poll && got != static_cast<ssize_t>(sizeof failure)) {
-    const auto interval = std::chrono::duration<double>(options.poll_seconds);
-    auto last = std::chrono::steady_clock::now();
-    while (true) {
-      const pid_t done = ::waitpid(pid, &status, WNOHANG);
-      if (done == pid) break;
-      if (done < 0 && errno != EINTR)
-        return {127, "waiting for " + args[0] + ": " + std::strerror(errno)};
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-      if (std::chrono::steady_clock::now() - last >= interval) {
-        last = std::chrono::steady_clock::now();
-        options.poll();
+  const bool running = got != static_cast<ssize_t>(sizeof failure);
+  const auto interval = std::chrono::duration<double>(options.poll_seconds);
+  const auto grace = std::chrono::seconds(10);
+  auto last = std::chrono::steady_clock::now();
+  std::optional<std::chrono::steady_clock::time_point> terminated;
+  bool killed = false;
+  while (true) {
+    const pid_t done = ::waitpid(pid, &status, WNOHANG);
+    if (done == pid) break;
+    if (done < 0 && errno != EINTR)
+      return {127, "waiting for " + args[0] + ": " + std::strerror(errno)};
+    if (running && interrupted()) {
+      const auto now = std::chrono::steady_clock::now();
+      if (!terminated) {
+        ::kill(-pid, SIGTERM);
+        terminated = now;
+      } else if (!killed && now - *terminated > grace) {
+        ::kill(-pid, SIGKILL);
+        killed = true;
       }
     }
-  } else {
-    while (::waitpid(pid, &status, 0) < 0) {
-      if (errno != EINTR) return {127, "waiting for " + args[0] + ": " + std::strerror(errno)};
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (running && options.poll && std::chrono::steady_clock::now() - last >= interval) {
+      last = std::chrono::steady_clock::now();
+      options.poll();
     }
   }
+  // The child is gone; anything it left in its group (a rank of mpirun) goes with it.
+  if (terminated) ::kill(-pid, SIGKILL);
   if (got == static_cast<ssize_t>(sizeof failure))
     return {127, describe(failure, args[0], directory, output)};
   if (WIFEXITED(status)) return {WEXITSTATUS(status), ""};

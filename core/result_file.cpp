@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/file_io.hpp"
+
 namespace granflow::core {
 
 struct ResultFile::Impl {
@@ -62,20 +64,41 @@ void write_dataset(H5::H5File& file, const std::string& path, const T* data, hsi
   if (rows > 0) set.write(data, type);
   string_attribute(set, "unit", unit);
   string_attribute(set, "description", description);
+  set.close();  // a failure to write its data shows here, as an exception
 }
 
 }  // namespace
 
-ResultFile::ResultFile(const std::filesystem::path& path)
-    : impl_((H5::Exception::dontPrint(), new Impl{H5::H5File(path.string(), H5F_ACC_TRUNC)})),
-      path_(path) {}
+// Runs one HDF5 operation; an HDF5 failure becomes an IoError naming result.h5, the operation
+// and the reason HDF5 recorded (the system's message for a failed write or open). After one
+// failure every later write is refused at once with the same reason, without touching HDF5 (a
+// full disk otherwise answers each of them with messages of its own).
+template <class Operation>
+decltype(auto) ResultFile::guarded(const std::string& action, Operation&& operation) {
+  if (!failure_.empty()) throw IoError(path_, action, failure_ + " (an earlier write failed)");
+  hdf5_failure_reason();  // forget an earlier, handled failure
+  try {
+    return operation();
+  } catch (const H5::Exception&) {
+    failure_ = hdf5_failure_reason();
+    throw IoError(path_, action, failure_);
+  }
+}
+
+ResultFile::ResultFile(const std::filesystem::path& path) : path_(path) {
+  install_hdf5_error_recorder();
+  impl_ = guarded("cannot create the HDF5 file", [&] {
+    return std::make_unique<Impl>(Impl{H5::H5File(path.string(), H5F_ACC_TRUNC)});
+  });
+}
+ResultFile::Impl& ResultFile::open_file() const {
+  if (!impl_) throw IoError(path_, "cannot write", "the file was already closed");
+  return *impl_;
+}
 ResultFile::~ResultFile() {
-  if (impl_) {
-    try {
-      impl_->file.flush(H5F_SCOPE_GLOBAL);
-      impl_->file.close();
-    } catch (...) {
-    }
+  try {
+    close();
+  } catch (...) {  // the error was reported by whoever saw it first; a destructor stays quiet
   }
 }
 ResultFile::ResultFile(ResultFile&&) noexcept = default;
@@ -83,13 +106,17 @@ ResultFile& ResultFile::operator=(ResultFile&&) noexcept = default;
 
 void ResultFile::write(const std::string& path, std::span<const double> values,
                        const std::string& unit, const std::string& description) {
-  write_dataset(impl_->file, path, values.data(), values.size(), 0, H5::PredType::NATIVE_DOUBLE,
-                unit, description);
+  guarded("cannot write " + path, [&] {
+    write_dataset(open_file().file, path, values.data(), values.size(), 0,
+                  H5::PredType::NATIVE_DOUBLE, unit, description);
+  });
 }
 void ResultFile::write(const std::string& path, std::span<const long> values,
                        const std::string& unit, const std::string& description) {
-  write_dataset(impl_->file, path, values.data(), values.size(), 0, H5::PredType::NATIVE_LONG, unit,
-                description);
+  guarded("cannot write " + path, [&] {
+    write_dataset(open_file().file, path, values.data(), values.size(), 0,
+                  H5::PredType::NATIVE_LONG, unit, description);
+  });
 }
 void ResultFile::write_matrix(const std::string& path, std::span<const double> values,
                               std::size_t rows, std::size_t cols, const std::string& unit,
@@ -97,45 +124,79 @@ void ResultFile::write_matrix(const std::string& path, std::span<const double> v
   if (values.size() != rows * cols)
     throw std::invalid_argument(
         fmt::format("write_matrix {}: {} values for {}x{}", path, values.size(), rows, cols));
-  write_dataset(impl_->file, path, values.data(), rows, cols, H5::PredType::NATIVE_DOUBLE, unit,
-                description);
+  guarded("cannot write " + path, [&] {
+    write_dataset(open_file().file, path, values.data(), rows, cols, H5::PredType::NATIVE_DOUBLE,
+                  unit, description);
+  });
 }
 
-void ResultFile::attribute(const std::string& object_path, const std::string& name, double value) {
+namespace {
+
+// An attribute on the dataset at `object_path` if there is one, else on that group (created).
+template <class Value, class Write>
+void set_attribute(H5::H5File& file, const std::string& object_path, const std::string& name,
+                   const Value& value, Write&& write) {
   if (!object_path.empty() && object_path != "/" &&
-      H5Lexists(impl_->file.getId(), object_path.c_str(), H5P_DEFAULT) > 0 &&
-      impl_->file.childObjType(object_path) == H5O_TYPE_DATASET) {
-    H5::DataSet set = impl_->file.openDataSet(object_path);
-    number_attribute(set, name, value);
+      H5Lexists(file.getId(), object_path.c_str(), H5P_DEFAULT) > 0 &&
+      file.childObjType(object_path) == H5O_TYPE_DATASET) {
+    H5::DataSet set = file.openDataSet(object_path);
+    write(set, name, value);
     return;
   }
-  H5::Group group = ensure_group(impl_->file, object_path);
-  number_attribute(group, name, value);
+  H5::Group group = ensure_group(file, object_path);
+  write(group, name, value);
+}
+
+}  // namespace
+
+void ResultFile::attribute(const std::string& object_path, const std::string& name, double value) {
+  guarded("cannot write attribute " + name + " of " + object_path,
+          [&] { set_attribute(open_file().file, object_path, name, value, number_attribute); });
 }
 void ResultFile::attribute(const std::string& object_path, const std::string& name,
                            const std::string& value) {
-  if (!object_path.empty() && object_path != "/" &&
-      H5Lexists(impl_->file.getId(), object_path.c_str(), H5P_DEFAULT) > 0 &&
-      impl_->file.childObjType(object_path) == H5O_TYPE_DATASET) {
-    H5::DataSet set = impl_->file.openDataSet(object_path);
-    string_attribute(set, name, value);
-    return;
-  }
-  H5::Group group = ensure_group(impl_->file, object_path);
-  string_attribute(group, name, value);
+  guarded("cannot write attribute " + name + " of " + object_path,
+          [&] { set_attribute(open_file().file, object_path, name, value, string_attribute); });
 }
-void ResultFile::flush() { impl_->file.flush(H5F_SCOPE_GLOBAL); }
+void ResultFile::flush() {
+  guarded("cannot write (flush)", [&] { open_file().file.flush(H5F_SCOPE_GLOBAL); });
+}
+void ResultFile::close() {
+  if (!impl_) return;
+  // After a failed write (a full disk) HDF5's file object may be half closed: it is closed once
+  // and then let go whatever happened, since a second close can crash inside HDF5.
+  hdf5_failure_reason();
+  std::string reason;
+  try {
+    impl_->file.flush(H5F_SCOPE_GLOBAL);
+  } catch (const H5::Exception&) {
+    reason = hdf5_failure_reason();
+  }
+  try {
+    impl_->file.close();
+  } catch (const H5::Exception&) {
+    if (reason.empty()) reason = hdf5_failure_reason();
+  }
+  if (reason.empty())
+    impl_.reset();
+  else {
+    [[maybe_unused]] Impl* abandoned = impl_.release();  // no second H5Fclose from its destructor
+    abandon_hdf5_file();
+  }
+  if (reason.empty() && !failure_.empty()) reason = failure_ + " (an earlier write failed)";
+  if (!reason.empty()) throw IoError(path_, "cannot write", reason);
+}
 
 // H5::Exception is not a std::exception: the readers translate it so that every caller (and the
 // CLI's top-level handler) sees a std::runtime_error naming the file and the object.
 [[noreturn]] static void rethrow_h5(const std::filesystem::path& file, const std::string& object,
                                     const H5::Exception& e) {
   throw std::runtime_error(file.string() + ": cannot read " + object + " (" + e.getDetailMsg() +
-                           ")");
+                           ": " + hdf5_failure_reason() + ")");
 }
 
 std::vector<double> read_dataset(const std::filesystem::path& file, const std::string& path) {
-  H5::Exception::dontPrint();
+  install_hdf5_error_recorder();
   try {
     H5::H5File f(file.string(), H5F_ACC_RDONLY);
     H5::DataSet set = f.openDataSet(path);
@@ -158,7 +219,7 @@ static H5::Attribute open_attribute(H5::H5File& f, const std::string& object_pat
 
 std::string read_string_attribute(const std::filesystem::path& file, const std::string& object_path,
                                   const std::string& name) {
-  H5::Exception::dontPrint();
+  install_hdf5_error_recorder();
   try {
     H5::H5File f(file.string(), H5F_ACC_RDONLY);
     H5::Attribute a = open_attribute(f, object_path, name);
@@ -172,7 +233,7 @@ std::string read_string_attribute(const std::filesystem::path& file, const std::
 
 double read_number_attribute(const std::filesystem::path& file, const std::string& object_path,
                              const std::string& name) {
-  H5::Exception::dontPrint();
+  install_hdf5_error_recorder();
   try {
     H5::H5File f(file.string(), H5F_ACC_RDONLY);
     double value = 0;

@@ -29,12 +29,19 @@ class ResultFile {
   // Attributes on a group or dataset (created if the group does not exist).
   void attribute(const std::string& object_path, const std::string& name, double value);
   void attribute(const std::string& object_path, const std::string& name, const std::string& value);
+  // Failures of any of these are IoError naming result.h5, the object and the system's reason.
   void flush();
+  // Flush and close (further writes are an error); the destructor closes quietly otherwise.
+  void close();
   const std::filesystem::path& path() const { return path_; }
 
  private:
   struct Impl;
+  Impl& open_file() const;
+  template <class Operation>
+  decltype(auto) guarded(const std::string& action, Operation&& operation);
   std::unique_ptr<Impl> impl_;
+  std::string failure_;  // the reason of the first failed write; later writes are refused
   std::filesystem::path path_;
 };
 

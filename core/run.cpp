@@ -4,16 +4,17 @@
 #include <spdlog/sinks/basic_file_sink.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
-
 #include <sys/stat.h>
 
 #include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
+#include "core/file_io.hpp"
+#include "core/interrupt.hpp"
 #include "core/process.hpp"
 
 #ifndef GRANFLOW_SOURCE_DIR
@@ -73,8 +74,7 @@ bool legacy_run_directory(const fs::path& dir) {
 
 std::string protected_path(const std::filesystem::path& dir) {
   const std::string name = dir.filename().string();
-  if (dir.empty() || name == "." || name == "..")
-    return "is . or ..; --force never replaces it";
+  if (dir.empty() || name == "." || name == "..") return "is . or ..; --force never replaces it";
   const fs::path target = canonical_or_lexical(dir);
   if (target == target.root_path()) return "is the root directory; --force never replaces it";
   if (const char* home = std::getenv("HOME"); home && *home)
@@ -135,27 +135,31 @@ RunDirectory::RunDirectory(const std::filesystem::path& dir, bool force) : dir_(
     throw CaseError(fmt::format("{}: cannot create the run directory: {}", dir_.string(),
                                 std::strerror(errno)));
   }
-  std::ofstream marker(dir_ / run_marker);
-  marker << "granflow run directory (granflow run --force may replace it)\n";
-  if (!marker.flush())
-    throw CaseError(fmt::format("{}: cannot write {}", dir_.string(), run_marker));
+  write_text_file(dir_ / run_marker,
+                  "granflow run directory (granflow run --force may replace it)\n");
+}
+
+std::vector<std::string> Summary::non_finite() const {
+  std::vector<std::string> keys;
+  for (const auto& [key, value] : values_)
+    if (!std::isfinite(value)) keys.push_back(key);
+  return keys;
 }
 
 void Summary::write(const std::filesystem::path& file) const {
-  std::ofstream out(file);
-  out << "{\n";
-  std::size_t i = 0;
+  std::string out = "{\n";
+  std::size_t written = 0, finite = values_.size() - non_finite().size();
   for (const auto& [key, value] : values_) {
+    if (!std::isfinite(value)) continue;
     std::string escaped;
     for (char ch : key) {
       if (ch == '"' || ch == '\\') escaped += '\\';
       escaped += ch;
     }
-    out << "  \"" << escaped
-        << "\": " << (std::isfinite(value) ? fmt::format("{:.17g}", value) : std::string("null"))
-        << (++i < values_.size() ? ",\n" : "\n");
+    out += fmt::format("  \"{}\": {:.17g}{}", escaped, value, ++written < finite ? ",\n" : "\n");
   }
-  out << "}\n";
+  out += "}\n";
+  write_text_file(file, out);
 }
 
 Summary Summary::read(const std::filesystem::path& file) {
@@ -163,7 +167,8 @@ Summary Summary::read(const std::filesystem::path& file) {
   // refuses anything else (an empty, truncated or foreign file) with the byte where it stopped.
   std::ifstream in(file);
   if (!in)
-    throw std::runtime_error(fmt::format("{}: cannot open: {}", file.string(), std::strerror(errno)));
+    throw std::runtime_error(
+        fmt::format("{}: cannot open: {}", file.string(), std::strerror(errno)));
   std::stringstream text;
   text << in.rdbuf();
   const std::string s = text.str();
@@ -284,12 +289,12 @@ RunContext::RunContext(const Case& c, const std::filesystem::path& dir, bool for
       log(make_logger(directory / "log.txt", quiet)),
       result(directory / "result.h5"),
       started(std::chrono::steady_clock::now()) {
-  std::ofstream(directory / "case.yaml")
-      << "# resolved case as run by granflow (defaults filled in)\n"
-      << c.resolved_yaml();
+  write_text_file(directory / "case.yaml",
+                  "# resolved case as run by granflow (defaults filled in)\n" + c.resolved_yaml());
   result.attribute("/", "case_name", c.name());
   result.attribute("/", "kind", c.kind());
   result.attribute("/", "granflow_version", std::string("0.1.0"));
+  result.flush();  // readable from the start, even if the process is killed (SIGKILL)
 }
 
 RunContext::~RunContext() = default;
@@ -300,6 +305,12 @@ double RunContext::wall_seconds() const {
 
 void RunContext::plot(const std::string& script) {
   const auto path = source_dir() / "analysis" / "plots" / script;
+  if (interrupted()) {
+    log->info("interrupted: not plotting with {} (rerun: {} {} {})", script,
+              shell_quote(python_interpreter()), shell_quote(path.string()),
+              shell_quote(directory.path().string()));
+    return;
+  }
   if (!std::filesystem::exists(path)) {
     log->warn("plot script {} not found; no PNG written", path.string());
     return;
@@ -316,15 +327,15 @@ void RunContext::plot(const std::string& script) {
     log->warn("plotting with {} failed: {}; data in result.h5 is complete", script, r.error);
   else if (r.status != 0)
     log->warn(
-        "plotting with {} failed (exit {}; python3-matplotlib and python3-h5py installed?); data "
-        "in result.h5 is complete",
+        "plotting with {} failed (exit {}; its own message is at the end of log.txt); data in "
+        "result.h5 is complete",
         script, r.status);
 }
 
 void RunContext::finish() {
   summary.set("cost.wall_s", wall_seconds());
+  result.close();
   summary.write(directory / "summary.json");
-  result.flush();
 }
 
 }  // namespace granflow::core

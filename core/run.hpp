@@ -11,6 +11,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "core/case.hpp"
 #include "core/result_file.hpp"
@@ -23,8 +24,10 @@ enum ExitCode : int {
   exit_failure = 1,
   exit_bad_input = 2,
   exit_numerical = 3,
-  exit_external = 4
+  exit_external = 4,
+  exit_io = 5  // an output could not be written (the line names the path and the system's reason)
 };
+// An interrupted run exits 128 + the signal: 130 (SIGINT), 143 (SIGTERM); core/interrupt.hpp.
 
 // A numerical failure stops the run with a message naming the step, the point and the variable;
 // whatever the run wrote before stays on disk.
@@ -69,13 +72,16 @@ class RunDirectory {
   std::filesystem::path dir_;
 };
 
-// summary.json: flat "name": number map, written sorted by key. NaN/Inf are written as null.
+// summary.json: flat "name": number map, written sorted by key. Only finite numbers are written:
+// non_finite() lists the others, which the CLI reports as a numerical failure (exit 3) instead.
 class Summary {
  public:
   void set(const std::string& key, double value) { values_[key] = value; }
   bool contains(const std::string& key) const { return values_.count(key) != 0; }
   double get(const std::string& key) const { return values_.at(key); }
   const std::map<std::string, double>& values() const { return values_; }
+  std::vector<std::string> non_finite() const;
+  // Atomically (a reader sees the previous file or the whole new one); IoError on failure.
   void write(const std::filesystem::path& file) const;
   static Summary read(const std::filesystem::path& file);
 
@@ -115,7 +121,8 @@ struct RunContext {
   // Run a plot script analysis/plots/<script> on this run directory (python3 + matplotlib).
   // A missing matplotlib is a logged warning, not a failed run.
   void plot(const std::string& script);
-  // Write summary.json (adds cost.wall_s) and flush result.h5. Called on success and on failure.
+  // Write summary.json (adds cost.wall_s) and close result.h5. Called on success, on failure and
+  // on interruption; throws IoError when either cannot be written.
   void finish();
 };
 

@@ -13,6 +13,8 @@
 #include <thread>
 #include <utility>
 
+#include "core/interrupt.hpp"
+
 #if GRANFLOW_HAVE_MPI
 // The C API only (linked as MPI::MPI_C): no deprecated C++ bindings.
 #define OMPI_SKIP_MPICXX 1
@@ -323,7 +325,9 @@ void lead_conditions(RunContext& ctx, std::size_t count, const ComputeCondition&
   };
   while (true) {
     bool active = false;
-    if (!failure && !local_busy && next < count) {
+    // An interrupted run (SIGINT/SIGTERM) hands out nothing more and absorbs what was started.
+    const bool stopping = failure || interrupted();
+    if (!stopping && !local_busy && next < count) {
       log.info("condition {}: started on rank 0", next);
       local = std::async(std::launch::async, compute_outcome, std::cref(compute), next++,
                          run_directory, 0);
@@ -347,7 +351,7 @@ void lead_conditions(RunContext& ctx, std::size_t count, const ComputeCondition&
         done.emplace(o.index, std::move(o));
       }
       // A result also says the rank is free again.
-      if (!failure && next < count) {
+      if (!stopping && next < count) {
         log.info("condition {}: started on rank {}", next, from);
         send(
             Packer().integer(static_cast<std::int64_t>(next++)).text(run_directory.string()).take(),
@@ -375,7 +379,9 @@ void lead_conditions(RunContext& ctx, std::size_t count, const ComputeCondition&
       done.erase(absorbed++);
       active = true;
     }
-    if (released == size - 1 && !local_busy && (failure || absorbed == count)) break;
+    if (released == size - 1 && !local_busy &&
+        (failure || absorbed == count || (stopping && absorbed == next)))
+      break;
     if (!active) std::this_thread::sleep_for(poll_interval);
   }
   if (failure) std::rethrow_exception(failure);
@@ -396,7 +402,8 @@ bool run_conditions(RunContext& ctx, std::size_t count, const ComputeCondition& 
     lead_conditions(ctx, count, compute, absorb, world_size());
     return true;
   }
-  for (std::size_t n = 0; n < count; ++n) absorb(n, compute({n, ctx.log, ctx.directory.path(), 0}));
+  for (std::size_t n = 0; n < count && !interrupted(); ++n)
+    absorb(n, compute({n, ctx.log, ctx.directory.path(), 0}));
   return true;
 }
 
@@ -437,7 +444,8 @@ bool owns_outputs() { return true; }
 
 bool run_conditions(RunContext& ctx, std::size_t count, const ComputeCondition& compute,
                     const AbsorbCondition& absorb) {
-  for (std::size_t n = 0; n < count; ++n) absorb(n, compute({n, ctx.log, ctx.directory.path(), 0}));
+  for (std::size_t n = 0; n < count && !interrupted(); ++n)
+    absorb(n, compute({n, ctx.log, ctx.directory.path(), 0}));
   return true;
 }
 

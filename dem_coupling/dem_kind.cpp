@@ -12,6 +12,8 @@
 
 #include "analysis/steady_state.hpp"
 #include "continuum/multi_regime/model_sections.hpp"
+#include "core/file_io.hpp"
+#include "core/interrupt.hpp"
 #include "core/process.hpp"
 #include "core/sweep_scheduler.hpp"
 #include "dem_coupling/kind/dem_fits.hpp"
@@ -453,8 +455,8 @@ int run_shear(core::RunContext& ctx) {
     const ShearDeck deck = make_shear_deck(p, "particles.data");
     const std::filesystem::path dir = point_dir(cc.run_directory, cc.index);
     std::filesystem::create_directories(dir);
-    std::ofstream(dir / "in.granflow") << deck.deck;
-    std::ofstream(dir / "particles.data") << deck.data;
+    core::write_text_file(dir / "in.granflow", deck.deck);
+    core::write_text_file(dir / "particles.data", deck.data);
     const int ranks = static_cast<int>(c.integer("dem.ranks"));
     const auto command = driver_command(ranks, "in.granflow");
     const std::string label = label_of(cc.index);
@@ -518,6 +520,14 @@ int run_shear(core::RunContext& ctx) {
     r.particle_steps_per_s = r.particles * r.steps / wall;
     if (sweep)
       for (const auto& [key, value] : c.condition()) ctx.result.attribute(group, key, value);
+    if (status != 0 && core::interrupted()) {
+      ctx.log->warn("{}: stopped by {} (granflow-dem status {}); the samples written so far are "
+                    "in {}",
+                    label, core::interrupt_name(), status, (dir / "series.tsv").string());
+      r.values.clear();
+      results.push_back(r);
+      return;
+    }
     if (status != 0) {
       const std::string error = first_error_line(dir / "liggghts.out");
       ctx.log->error("{}: granflow-dem exited with status {}: {}", label, status,

@@ -11,6 +11,7 @@
 
 #include "analysis/calibration/calibration.hpp"
 #include "continuum/multi_regime/model_sections.hpp"
+#include "core/file_io.hpp"
 
 namespace granflow::calibration {
 
@@ -97,6 +98,16 @@ core::Schema calibrate_schema() {
   return s;
 }
 
+// More training residuals than fitted parameters, or the fit is refused at fit.parameters.
+static void check_training_size(const core::Case& c, const CaseData& data, std::size_t parameters,
+                         std::size_t observables) {
+  const std::size_t points = data.training.size();
+  if (points * observables <= parameters)
+    c.fail("fit.parameters",
+           fmt::format("{} parameters but only {} training residuals ({} points × {} observables)",
+                       parameters, points * observables, points, observables));
+}
+
 void check_calibrate_case(const core::Case& c) {
   const auto names = split_names(c.string("fit.parameters"));
   if (names.empty()) c.fail("fit.parameters", "at least one parameter name");
@@ -139,6 +150,13 @@ void check_calibrate_case(const core::Case& c) {
     c.fail("holdout.points", "a non-empty list of indices with holdout.mode: list");
 }
 
+// The data the run will fit, read before its run directory exists: unusable data is refused
+// with exit 2 and leaves nothing behind (a rerun needs no --force).
+void check_calibrate_data(const core::Case& c) {
+  check_training_size(c, read_case_data(c), split_names(c.string("fit.parameters")).size(),
+                      split_names(c.string("data.observables")).size());
+}
+
 int run_calibrate_case(core::RunContext& ctx) {
   const core::Case& c = ctx.run_case;
   auto& log = *ctx.log;
@@ -160,11 +178,7 @@ int run_calibrate_case(core::RunContext& ctx) {
   const std::vector<char>& held = data.held;
   const std::vector<DataPoint>& training = data.training;
   const std::vector<DataPoint>& holdout = data.holdout;
-  if (training.size() * observables.size() <= names.size())
-    c.fail("fit.parameters",
-           fmt::format("{} parameters but only {} training residuals ({} points × {} observables)",
-                       names.size(), training.size() * observables.size(), training.size(),
-                       observables.size()));
+  check_training_size(c, data, names.size(), observables.size());
 
   // ---- fit
   log.info("fitting {} on {} training points ({} held out), observables: {}",
@@ -330,7 +344,7 @@ int run_calibrate_case(core::RunContext& ctx) {
     emitter << YAML::EndMap;
   }
   emitter << YAML::EndMap;
-  std::ofstream(ctx.directory / "calibrated.yaml") << emitter.c_str() << "\n";
+  core::write_text_file(ctx.directory / "calibrated.yaml", std::string(emitter.c_str()) + "\n");
   ctx.plot("plot_calibration.py");
   return core::exit_ok;
 }
@@ -339,7 +353,7 @@ void register_calibrate_kinds(core::KindRegistry& registry) {
   registry.add({"calibrate", "",
                 "fit closure parameters to DEM steady simple-shear data (weighted least squares)",
                 calibrate_schema(), check_calibrate_case, run_calibrate_case,
-                "cases/calibrate/dry_mu_I.yaml"});
+                "cases/calibrate/dry_mu_I.yaml", check_calibrate_data});
 }
 
 }  // namespace granflow::calibration

@@ -158,13 +158,27 @@ DemDataset read_dem_dataset(const std::filesystem::path& file, int source_index)
   } catch (const std::exception&) {  // dry datasets have no /steady/viscosity
     viscosity.clear();
   }
+  // One row per condition in every column: a shorter or longer column is a damaged dataset.
+  const std::pair<const char*, const std::vector<double>*> columns[] = {
+      {"normal_stress", &sigma},        {"friction", &mu},
+      {"friction_err", &mu_err},        {"solid_fraction", &phi},
+      {"solid_fraction_err", &phi_err}, {"granular_temperature", &T},
+      {"granular_temperature_err", &T_err}, {"scaled_temperature", &T_scaled},
+      {"particle_friction", &mu_p},     {"inertial_number", &I},
+      {"viscosity", &viscosity}};
+  for (const auto& [name, values] : columns)
+    if (values->size() != shear_rate.size() && !(values == &viscosity && values->empty()))
+      throw std::runtime_error(fmt::format(
+          "{}: /steady/{} has {} rows but /steady/shear_rate has {}; expected one row per "
+          "condition in every column (docs/dem_dataset.md)",
+          file.string(), name, values->size(), shear_rate.size()));
   for (std::size_t r = 0; r < shear_rate.size(); ++r) {
     DataPoint p;
     p.shear_rate = shear_rate[r];
     p.normal_stress = sigma[r];
     p.particle_friction = mu_p[r];
     p.inertial_number = I[r];
-    if (r < viscosity.size()) p.liquid_viscosity = viscosity[r];
+    if (!viscosity.empty()) p.liquid_viscosity = viscosity[r];
     p.value[0] = mu[r];
     p.error[0] = mu_err[r];
     p.value[1] = phi[r];

@@ -15,6 +15,8 @@
 
 #include "analysis/calibration/calibrate_kind.hpp"
 #include "continuum/multi_regime/model_sections.hpp"
+#include "core/file_io.hpp"
+#include "core/interrupt.hpp"
 #include "core/run.hpp"
 #include "core/sweep_scheduler.hpp"
 
@@ -421,8 +423,8 @@ int run_closure_study_command(const ClosureStudyCommand& command, int rank) {
     std::cerr << "error: " << e.what() << "\n";
     return core::exit_bad_input;
   }
-  std::ofstream(dir / closure_study_marker) << "granflow study closures " << study.file.string()
-                                            << "\n";
+  core::write_text_file(dir / closure_study_marker,
+                        "granflow study closures " + study.file.string() + "\n");
   auto& log = *ctx->log;
   int code = core::exit_ok;
   try {
@@ -440,7 +442,16 @@ int run_closure_study_command(const ClosureStudyCommand& command, int rank) {
                  comb.label);
     }
     core::run_conditions(*ctx, count, compute, absorb);
-    write_closure_study({study, data, fits, rank_fits(fits)}, dir, command.plot, log, started);
+    if (core::interrupted()) {
+      log.warn("interrupted by {}: no ranking written (it needs every combination)",
+               core::interrupt_name());
+      code = core::interrupt_exit_code();
+    } else {
+      write_closure_study({study, data, fits, rank_fits(fits)}, dir, command.plot, log, started);
+    }
+  } catch (const core::IoError& e) {
+    log.error("{}", e.what());
+    code = core::exit_io;
   } catch (const std::exception& e) {
     log.error("internal error: {}", e.what());
     code = core::exit_failure;

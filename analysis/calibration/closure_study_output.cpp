@@ -4,12 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
+#include <sstream>
 #include <functional>
 #include <map>
 #include <utility>
 
 #include "analysis/calibration/closure_study.hpp"
+#include "core/file_io.hpp"
 #include "core/process.hpp"
 #include "core/result_file.hpp"
 #include "core/run.hpp"
@@ -145,7 +146,7 @@ void build_table(Study& t) {
 }
 
 void write_csv(const Study& t, const fs::path& file) {
-  std::ofstream out(file);
+  std::ostringstream out;
   const auto row = [&](const std::function<std::string(const Column&)>& cell) {
     bool first = true;
     for (const auto& c : t.columns)
@@ -154,10 +155,11 @@ void write_csv(const Study& t, const fs::path& file) {
   };
   row([](const Column& c) { return c.name; });
   for (const std::size_t i : t.order) row([&](const Column& c) { return csv_text(c.cell(i, false)); });
+  core::write_text_file(file, out.str());
 }
 
 void write_json(const Study& t, const fs::path& file) {
-  core::Summary sum;  // flat name: number; NaN/Inf are written as null
+  core::Summary sum;  // flat name: number; NaN/Inf are left out
   sum.set("study.combinations", double(t.fits.size()));
   sum.set("study.points", double(t.data.used.size()));
   sum.set("study.training_points", double(t.data.training.size()));
@@ -172,10 +174,9 @@ void write_json(const Study& t, const fs::path& file) {
   sum.write(file);
 }
 
-void write_report(const Study& t, const fs::path& file, bool plotted) {
+void write_report_text(const Study& t, bool plotted, std::ostream& out) {
   const auto& s = t.study;
   const auto& base = *s.base;
-  std::ofstream out(file);
   out << "# Closure study: " << s.name << "\n\n"
       << fmt::format("Case `{}`, data `{}`: {} points, {} fitted, {} held out (holdout.mode: {}); "
                      "observables {}; fit.parameters `{}`. {} combinations in {:.1f} s.\n\n",
@@ -230,6 +231,12 @@ void write_report(const Study& t, const fs::path& file, bool plotted) {
                        num(f.standard_error[j], "{:.3g}"), f.at_bound[j] > 0 ? "yes" : "no");
   if (plotted)
     out << "\n![The best three distinct combinations against the DEM data](closures.png)\n";
+}
+
+void write_report(const Study& t, const fs::path& file, bool plotted) {
+  std::ostringstream out;
+  write_report_text(t, plotted, out);
+  core::write_text_file(file, out.str());
 }
 
 // The DEM points and the smooth predictions of the best three distinct combinations (a row with

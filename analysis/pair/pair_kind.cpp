@@ -12,6 +12,7 @@
 #include "analysis/calibration/calibration.hpp"
 #include "continuum/multi_regime/model_sections.hpp"
 #include "continuum/rev/simple_shear.hpp"
+#include "core/interrupt.hpp"
 #include "core/sweep_scheduler.hpp"
 #include "dem_coupling/dem_kind.hpp"
 
@@ -255,8 +256,10 @@ int run_pair_case(core::RunContext& ctx) {
     // Under mpirun the DEM points were shared out over the ranks (core/sweep_scheduler.hpp); the
     // continuum side, a fraction of a second per point, stays on rank 0 with the outputs.
     if (!core::owns_outputs()) return code;
+    if (core::interrupted()) dem_ctx.summary.set("run.interrupted", 1);
     dem_ctx.finish();
   }
+  if (core::interrupted()) return code;  // the CLI reports it; dem/ holds the points so far
   if (code != core::exit_ok) {
     log.error("the DEM part failed (exit {}); see {}", code, (dem_dir / "log.txt").string());
     return code;

@@ -3,8 +3,9 @@
 #include <H5Cpp.h>
 #include <fmt/format.h>
 
-#include <fstream>
 #include <stdexcept>
+
+#include "core/file_io.hpp"
 
 namespace granflow::mpm {
 
@@ -101,7 +102,9 @@ std::filesystem::path FieldWriter::write(const Solver& s) {
   const std::vector<std::string> liquid_fields = {"vx", "vy", "pressure", "porosity", "mass"};
   const std::vector<std::string> grid_fields = {"mass_solid", "mass_liquid", "vx_solid", "vy_solid",
                                                 "vx_liquid",  "vy_liquid",   "porosity"};
-  {
+  core::install_hdf5_error_recorder();
+  core::hdf5_failure_reason();  // forget an earlier, handled failure
+  try {
     H5::H5File file(h5.string(), H5F_ACC_TRUNC);
     H5::Group root = file.openGroup("/");
     {
@@ -135,6 +138,8 @@ std::filesystem::path FieldWriter::write(const Solver& s) {
         &nf.mass_solid, &nf.mass_liquid, &nf.vx_solid, &nf.vy_solid,
         &nf.vx_liquid,  &nf.vy_liquid,   &nf.porosity};
     for (std::size_t k = 0; k < gv.size(); ++k) write_vector(gr, grid_fields[k], *gv[k]);
+  } catch (const H5::Exception&) {
+    throw core::IoError(h5, "cannot write the field frame", core::hdf5_failure_reason());
   }
   // XDMF of this step.
   const std::string h5name = stem + ".h5";
@@ -156,20 +161,14 @@ std::filesystem::path FieldWriter::write(const Solver& s) {
       "  <Grid Name=\"{}\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
       "    <Time Value=\"{:.17g}\"/>\n{}  </Grid>\n",
       stem, s.time(), grids);
-  {
-    std::ofstream x(dir_ / (stem + ".xmf"));
-    x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"2.0\">\n <Domain>\n"
-      << step_grid << " </Domain>\n</Xdmf>\n";
-  }
+  const std::string header = "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"2.0\">\n <Domain>\n";
+  core::write_text_file(dir_ / (stem + ".xmf"), header + step_grid + " </Domain>\n</Xdmf>\n");
   times_.push_back(s.time());
   names_.push_back(step_grid);
-  {
-    std::ofstream x(dir_ / "fields.xmf");
-    x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"2.0\">\n <Domain>\n"
-      << "  <Grid Name=\"time series\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-    for (const auto& g : names_) x << g;
-    x << "  </Grid>\n </Domain>\n</Xdmf>\n";
-  }
+  std::string series =
+      header + "  <Grid Name=\"time series\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (const auto& g : names_) series += g;
+  core::write_text_file(dir_ / "fields.xmf", series + "  </Grid>\n </Domain>\n</Xdmf>\n");
   return h5;
 }
 

@@ -16,6 +16,7 @@
 #include "continuum/mpm/problems.hpp"
 #include "continuum/mpm/rheometer.hpp"
 #include "continuum/multi_regime/model_sections.hpp"
+#include "core/interrupt.hpp"
 
 namespace granflow::mpm {
 
@@ -272,11 +273,12 @@ double advance(core::RunContext& ctx, Solver& s, double end_time, FieldWriter* f
   int next_frame = 1;
   try {
     if (fields && s.steps() == 0) fields->write(s);
-    while (s.time() < end_time - 0.5 * s.dt()) {
+    while (s.time() < end_time - 0.5 * s.dt() && !core::interrupted()) {
       s.step();
       sample();
       if (fields && frames > 0 && s.time() >= end_time * next_frame / frames - 0.5 * s.dt()) {
         fields->write(s);
+        ctx.result.flush();  // result.h5 readable up to this frame even after SIGKILL
         ++next_frame;
       }
       progress.update(s.time());
@@ -284,6 +286,9 @@ double advance(core::RunContext& ctx, Solver& s, double end_time, FieldWriter* f
   } catch (const SolverFailure& f) {
     throw core::NumericalFailure(f.step, f.point, f.variable, f.value, f.what());
   }
+  if (core::interrupted())
+    ctx.log->warn("interrupted by {} at step {}, t = {:.6g} s (end time {:g} s)",
+                  core::interrupt_name(), s.steps(), s.time(), end_time);
   progress.finish();
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -770,7 +775,7 @@ int run_rheometer(core::RunContext& ctx) {
   sample();
   try {
     if (fields && s.steps() == 0) fields->write(s);
-    while (s.time() < end_time - 0.5 * s.dt()) {
+    while (s.time() < end_time - 0.5 * s.dt() && !core::interrupted()) {
       s.step();
       accumulate_shear_strain(s, gamma);
       if (s.steps() % sample_every == 0) sample();
@@ -779,6 +784,7 @@ int run_rheometer(core::RunContext& ctx) {
         profile();
       if (fields && frames > 0 && s.time() >= end_time * next_frame / frames - 0.5 * s.dt()) {
         fields->write(s);
+        ctx.result.flush();  // result.h5 readable up to this frame even after SIGKILL
         ++next_frame;
       }
       progress.update(s.time());
@@ -787,6 +793,9 @@ int run_rheometer(core::RunContext& ctx) {
     throw core::NumericalFailure(f.step >= 0 ? f.step : s.steps() + 1, f.point, f.variable, f.value,
                                  f.what());
   }
+  if (core::interrupted())
+    ctx.log->warn("interrupted by {} at step {}, t = {:.6g} s (end time {:g} s)",
+                  core::interrupt_name(), s.steps(), s.time(), end_time);
   progress.finish();
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

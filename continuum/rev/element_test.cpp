@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/interrupt.hpp"
 #include "core/run.hpp"
 
 namespace granflow::rev {
@@ -256,6 +257,7 @@ void run_triaxial(const MultiRegimePoint& point, const TriaxialControl& control,
              parts.force_chain_update.yield_value, static_cast<int>(stage_index));
       result.steps = step;
       if (progress && step % 500 == 0) progress(time / total_time);
+      if (core::interrupted()) return;  // SIGINT/SIGTERM: the series so far is the result
     }
   }
 }

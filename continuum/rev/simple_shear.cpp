@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "continuum/rev/simple_shear_mixed_control.hpp"
+#include "core/interrupt.hpp"
 #include "core/run.hpp"
 
 namespace granflow::rev {
@@ -248,7 +249,8 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
                                                                                 : 0;
     }
     if (progress && step % 1000 == 0) progress(strain);
-    if (quiet_steps >= 5 || strain >= control.max_strain) {
+    // SIGINT/SIGTERM: stop here with the state so far (steady.reached says whether it was).
+    if (quiet_steps >= 5 || strain >= control.max_strain || core::interrupted()) {
       auto& s = result.steady;
       s.reached = quiet_steps >= 5;
       s.strain = strain;

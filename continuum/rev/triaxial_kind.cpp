@@ -8,6 +8,7 @@
 #include "continuum/multi_regime/model_sections.hpp"
 #include "continuum/rev/element_test.hpp"
 #include "continuum/rev/rev_kind.hpp"
+#include "core/interrupt.hpp"
 
 namespace granflow::rev {
 
@@ -225,7 +226,7 @@ int run_triaxial_case(core::RunContext& ctx) {
   std::vector<double> rates, residual_q, residual_q_col, residual_q_liq;
   long total_steps = 0, total_evaluations = 0;
   double max_residual = 0;
-  for (std::size_t n = 0; n < conditions.size(); ++n) {
+  for (std::size_t n = 0; n < conditions.size() && !core::interrupted(); ++n) {
     const core::Case& c = conditions[n];
     const continuum::MultiRegimePoint point(continuum::read_multi_regime_settings(c));
     const TriaxialControl control = read_triaxial_control(c);

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <H5Cpp.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
@@ -15,11 +16,25 @@
 #include <string>
 #include <vector>
 
+#include "core/file_io.hpp"
 #include "dem_coupling/kind/dem_fits.hpp"
 
 namespace granflow::dem {
 
 namespace fits_file_detail {
+
+// Opens `file`; a missing, truncated or foreign file is a std::runtime_error naming it and the
+// reason HDF5 recorded (core/file_io.hpp).
+inline H5::H5File open_h5(const std::filesystem::path& file, unsigned flags) {
+  core::install_hdf5_error_recorder();
+  core::hdf5_failure_reason();  // forget an earlier, handled failure
+  try {
+    return H5::H5File(file.string(), flags);
+  } catch (const H5::Exception&) {
+    throw std::runtime_error(fmt::format("{}: cannot open as HDF5 ({}); expected a DEM result.h5",
+                                         file.string(), core::hdf5_failure_reason()));
+  }
+}
 
 inline std::vector<double> read(H5::H5File& f, const std::string& path) {
   H5::DataSet set = f.openDataSet(path);
@@ -115,8 +130,7 @@ inline DemSteadyTable read_dem_steady_table(
     const std::filesystem::path& file,
     double total_strain = std::numeric_limits<double>::quiet_NaN()) {
   using namespace fits_file_detail;
-  H5::Exception::dontPrint();
-  H5::H5File f(file.string(), H5F_ACC_RDONLY);
+  H5::H5File f = open_h5(file, H5F_ACC_RDONLY);
   if (!path_exists(f, "/steady/particle_friction") && path_exists(f, "/conditions/0"))
     return steady_table_from_conditions(f, total_strain);
   auto column = [&](const std::string& name) {
@@ -168,7 +182,7 @@ inline DemSteadyTable read_dem_steady_table(
 class AppendedResultFile {
  public:
   explicit AppendedResultFile(const std::filesystem::path& file)
-      : file_((H5::Exception::dontPrint(), H5::H5File(file.string(), H5F_ACC_RDWR))) {}
+      : file_(fits_file_detail::open_h5(file, H5F_ACC_RDWR)) {}
   ~AppendedResultFile() {
     try {
       file_.flush(H5F_SCOPE_GLOBAL);
