@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -14,20 +15,8 @@
 #include "core/case_file_text.hpp"
 
 namespace granflow::core {
-namespace {
 
-std::vector<std::string> split_path(std::string_view path) {
-  std::vector<std::string> parts;
-  std::size_t start = 0;
-  while (start <= path.size()) {
-    const auto dot = path.find('.', start);
-    const auto end = dot == std::string_view::npos ? path.size() : dot;
-    parts.emplace_back(path.substr(start, end - start));
-    if (dot == std::string_view::npos) break;
-    start = dot + 1;
-  }
-  return parts;
-}
+namespace {
 
 std::string join(const std::string& prefix, const std::string& key) {
   return prefix.empty() ? key : prefix + "." + key;
@@ -51,7 +40,7 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
 
 const Field* schema_field(const Schema& schema, std::string_view path) {
   const Field* field = &schema;
-  for (const auto& part : split_path(path)) {
+  for (const auto& part : split_key_path(path)) {
     if (field->type() != ValueType::section) return nullptr;
     field = field->child(part);
     if (!field) return nullptr;
@@ -69,6 +58,37 @@ bool parse_number(const YAML::Node& node, double& value) {
   return std::isfinite(value);
 }
 
+using Limits = std::map<std::string, double, std::less<>>;
+
+// Why `value` (written `text`) is above the field's limits.<name> ("" when it is not).
+std::string limit_problem(const Field& field, double value, const std::string& text,
+                          const Limits& limits) {
+  if (field.limit_name().empty() || value <= limits.at(field.limit_name())) return "";
+  return fmt::format(
+      "value {} is above limits.{} = {:g}; expected {} (raise limits.{} in the case, or with "
+      "--set limits.{}=N, to run it on purpose)",
+      text, field.limit_name(), limits.at(field.limit_name()), field.expectation(),
+      field.limit_name(), field.limit_name());
+}
+
+bool subnormal(double value) {
+  return value != 0 && std::abs(value) < std::numeric_limits<double>::min();
+}
+
+// Why a finite `value` is refused for a number field ("" when accepted).
+std::string number_problem(const Field& field, double value, const std::string& text,
+                           const Limits& limits) {
+  if (subnormal(value))
+    return fmt::format(
+        "value {} is below 2.2e-308, the smallest normal double, and underflows in arithmetic; "
+        "expected {}",
+        text, field.expectation());
+  if (!field.within_bounds(value))
+    return fmt::format("value {} is outside the physical range; expected {}", text,
+                       field.expectation());
+  return limit_problem(field, value, text, limits);
+}
+
 }  // namespace
 
 // ------------------------------------------------------------------------------------------
@@ -76,14 +96,10 @@ struct Validator {
   const std::string& origin;
   const std::vector<std::pair<std::string, std::string>>& override_locations;
   std::vector<std::pair<std::string, std::string>>& locations;
+  const Limits& limits;
 
   std::string where(const std::string& path, const YAML::Node& node) const {
-    // the last entry wins: --set is recorded after the included files' keys
-    for (auto it = override_locations.rbegin(); it != override_locations.rend(); ++it)
-      if (it->first == path || path.rfind(it->first + ".", 0) == 0) return it->second;
-    if (node.IsDefined() && node.Mark().line >= 0)
-      return fmt::format("{}:{}", origin, node.Mark().line + 1);
-    return origin;
+    return locate(origin, override_locations, path, node);
   }
 
   [[noreturn]] void fail(const std::string& path, const YAML::Node& node,
@@ -104,6 +120,7 @@ struct Validator {
           const Field* child = field.child(key);
           const std::string child_path = join(path, key);
           if (!child) {
+            const std::string shown = join(path, shorten(key));  // any text can be a key
             std::string names, best;
             std::size_t best_distance = 4;  // suggest only close matches
             for (const auto& c : field.children()) {
@@ -111,7 +128,7 @@ struct Validator {
               const auto d = edit_distance(key, c.key());
               if (d < best_distance) best_distance = d, best = c.key();
             }
-            fail(child_path, item.first,
+            fail(shown, item.first,
                  fmt::format("unknown key; expected one of: {}{}", names,
                              best.empty() ? "" : fmt::format(" (did you mean '{}'?)", best)));
           }
@@ -139,10 +156,9 @@ struct Validator {
       case ValueType::number: {
         double value = 0;
         if (!parse_number(node, value)) fail(path, node, "not a number; " + expected);
-        if (!field.within_bounds(value))
-          fail(path, node,
-               fmt::format("value {} is outside the physical range; {}", node.as<std::string>(),
-                           expected));
+        if (const auto problem = number_problem(field, value, shorten(node.Scalar()), limits);
+            !problem.empty())
+          fail(path, node, problem);
         return YAML::Node(value);
       }
       case ValueType::integer: {
@@ -152,15 +168,26 @@ struct Validator {
                                             : Field::IntegerStatus::not_integer;
         if (status == Field::IntegerStatus::not_integer)
           fail(path, node, "not an integer; " + expected);
+        // beyond its limit (also when beyond an int): the limit is the bound to name
+        double approximate = 0;
+        if (status != Field::IntegerStatus::ok && parse_number(node, approximate))
+          if (const auto problem =
+                  limit_problem(field, approximate, shorten(node.Scalar()), limits);
+              !problem.empty())
+            fail(path, node, problem);
         if (status == Field::IntegerStatus::out_of_range)
           fail(path, node,
-               fmt::format("value {} is out of range; {}{}", node.as<std::string>(), expected,
+               fmt::format("value {} is out of range; {}{}", shorten(node.Scalar()), expected,
                            field.integer_limit_note()));
         if (status == Field::IntegerStatus::inexact)
           fail(path, node,
                fmt::format("value {} in floating-point notation is beyond 2^53 and may not be "
                            "exact; expected the {} written in digits",
-                           node.as<std::string>(), field.expectation()));
+                           shorten(node.Scalar()), field.expectation()));
+        if (const auto problem =
+                limit_problem(field, double(value), shorten(node.Scalar()), limits);
+            !problem.empty())
+          fail(path, node, problem);
         return YAML::Node(value);
       }
       case ValueType::boolean: {
@@ -178,7 +205,7 @@ struct Validator {
         const auto value = node.as<std::string>();
         const auto& names = field.choice_names();
         if (std::find(names.begin(), names.end(), value) == names.end())
-          fail(path, node, fmt::format("unknown name '{}'; {}", value, expected));
+          fail(path, node, fmt::format("unknown name '{}'; {}", shorten(value), expected));
         return YAML::Node(value);
       }
       case ValueType::number_list: {
@@ -198,100 +225,6 @@ struct Validator {
   }
 };
 
-// ------------------------------------------------------------------------------------------
-// `include: FILE` (or a list of files), relative to the including file: their sections are merged
-// into the case before validation, so a calibrated parameter file (kind: calibrate writes one)
-// can be used by rev and mpm cases directly. A key given in both files is an error naming both
-// places (no silent precedence); --set still overrides everything. Included files may not
-// include further files.
-namespace {
-
-void merge_node(YAML::Node target, const YAML::Node& source, const std::string& path,
-                const std::string& file, const std::string& origin,
-                std::vector<std::pair<std::string, std::string>>& locations) {
-  for (const auto& item : source) {
-    const auto key = item.first.as<std::string>();
-    const std::string child_path = join(path, key);
-    const std::string where = fmt::format("{}:{}", file, item.first.Mark().line + 1);
-    YAML::Node existing = target[key];
-    if (existing.IsDefined() && existing.IsMap() && item.second.IsMap()) {
-      merge_node(existing, item.second, child_path, file, origin, locations);
-      continue;
-    }
-    if (existing.IsDefined())
-      throw CaseError(
-          fmt::format("{}: {}: given both here and in {}:{}; expected it in one file only", where,
-                      child_path, origin, existing.Mark().line + 1));
-    target[key] = item.second;
-    std::function<void(const YAML::Node&, const std::string&)> record = [&](const YAML::Node& n,
-                                                                            const std::string& p) {
-      if (n.IsMap()) {
-        for (const auto& sub : n) record(sub.second, join(p, sub.first.as<std::string>()));
-      } else {
-        locations.emplace_back(p, fmt::format("{}:{}", file, n.Mark().line + 1));
-      }
-    };
-    record(item.second, child_path);
-  }
-}
-
-}  // namespace
-
-void Case::merge_includes(YAML::Node& raw, const std::string& origin,
-                          std::vector<std::pair<std::string, std::string>>& locations) {
-  const YAML::Node include = raw["include"];
-  if (!include.IsDefined()) return;
-  const std::string at = fmt::format("{}:{}", origin, include.Mark().line + 1);
-  std::vector<std::string> files;
-  if (include.IsScalar()) {
-    files.push_back(include.as<std::string>());
-  } else if (include.IsSequence()) {
-    for (const auto& f : include) {
-      if (!f.IsScalar())
-        throw CaseError(at + ": include: expected a file name or a list of file names");
-      files.push_back(f.as<std::string>());
-    }
-  } else {
-    throw CaseError(at + ": include: expected a file name or a list of file names");
-  }
-  raw.remove("include");
-  const std::filesystem::path base = std::filesystem::path(origin).parent_path();
-  for (const auto& name : files) {
-    const std::filesystem::path file =
-        std::filesystem::path(name).is_absolute() ? std::filesystem::path(name) : base / name;
-    std::string text;
-    switch (read_regular_file(file, text)) {
-      case ReadStatus::ok:
-        break;
-      case ReadStatus::cannot_open:
-        throw CaseError(fmt::format("{}: include: cannot open '{}'", at, file.string()));
-      case ReadStatus::not_regular:
-        throw CaseError(fmt::format("{}: not a regular file (included at {})", file.string(), at));
-    }
-    YAML::Node included;
-    try {
-      refuse_duplicate_keys(text, file.string());  // located in the included file
-      included = YAML::Load(text);
-    } catch (const YAML::ParserException& e) {
-      throw CaseError(
-          fmt::format("{}:{}: YAML syntax error: {}", file.string(), e.mark.line + 1, e.msg));
-    }
-    if (!included.IsMap())
-      throw CaseError(
-          fmt::format("{}:1: (top level): expected a map of case sections", file.string()));
-    if (included["include"].IsDefined())
-      throw CaseError(fmt::format("{}:{}: include: an included file may not include further files",
-                                  file.string(), included["include"].Mark().line + 1));
-    for (const char* header : {"kind", "test", "name"})
-      if (included[header].IsDefined())
-        throw CaseError(
-            fmt::format("{}:{}: {}: not allowed in an included file; expected only "
-                        "parameter sections",
-                        file.string(), included[header].Mark().line + 1, header));
-    merge_node(raw, included, "", file.string(), origin, locations);
-  }
-}
-
 Case Case::load(const std::filesystem::path& file, const std::vector<std::string>& overrides,
                 const Schema& schema) {
   Case c = parse(read_case_file(file), file.string(), overrides, schema);
@@ -304,125 +237,36 @@ Case Case::load(const std::filesystem::path& file, const std::vector<std::string
 
 Case Case::parse(const std::string& yaml_text, const std::string& origin,
                  const std::vector<std::string>& overrides, const Schema& schema) {
-  YAML::Node raw;
-  try {
-    refuse_duplicate_keys(yaml_text, origin);
-    raw = YAML::Load(yaml_text);
-  } catch (const YAML::ParserException& e) {
-    throw CaseError(fmt::format("{}:{}: YAML syntax error: {}", origin, e.mark.line + 1, e.msg));
-  }
+  YAML::Node raw = load_case_yaml(yaml_text, origin);
   if (!raw.IsMap())
     throw CaseError(fmt::format("{}:1: (top level): expected a map of keys", origin));
 
   // --set key.path=value: same validation as the file. Keys merged from `include:` files are
   // located in their own file through the same list (exact leaf paths).
   std::vector<std::pair<std::string, std::string>> override_locations;
-  merge_includes(raw, origin, override_locations);
-  for (const auto& item : overrides) {
-    const auto eq = item.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw CaseError(fmt::format("--set {}: expected key.path=value", item));
-    const std::string path = item.substr(0, eq);
-    YAML::Node value;
-    try {
-      // a map value given on the command line follows the same rule as the file
-      if (const auto dup = find_duplicate_key(item.substr(eq + 1), path))
-        throw CaseError(
-            fmt::format("--set {}: {}: given twice; expected each key once", item, dup->path));
-      value = YAML::Load(item.substr(eq + 1));
-    } catch (const YAML::Exception& e) {
-      throw CaseError(fmt::format("--set {}: the value is not valid YAML: {}", item, e.what()));
-    }
-    // sweep.<key.path>=[...]: the rest of the path is one sweep key (flat, as in the file)
-    if (path.rfind("sweep.", 0) == 0 && path.size() > 6) {
-      if (!raw["sweep"].IsDefined() || raw["sweep"].IsNull())
-        raw["sweep"] = YAML::Node(YAML::NodeType::Map);
-      raw["sweep"][path.substr(6)] = value;
-      override_locations.emplace_back(path, "--set " + item);
-      continue;
-    }
-    const auto parts = split_path(path);
-    std::vector<YAML::Node> chain{raw};
-    for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
-      YAML::Node next = chain.back()[parts[i]];
-      if (!next.IsDefined() || next.IsNull()) {
-        chain.back()[parts[i]] = YAML::Node(YAML::NodeType::Map);
-        next = chain.back()[parts[i]];
-      }
-      chain.push_back(next);
-    }
-    chain.back()[parts.back()] = value;
-    override_locations.emplace_back(path, "--set " + item);
-  }
+  merge_includes(raw, origin, override_locations);  // case_file_text.hpp
+  for (const auto& item : overrides) apply_override(raw, item, origin, schema, override_locations);
 
   Case c;
   c.origin_ = origin;
   c.schema_ = &schema;
+  Validator validator{origin, override_locations, *c.locations_, c.limits_};
 
-  // sweep: { key.path: [values...] }, validated against the schema field of each path.
-  YAML::Node sweep = raw["sweep"];
-  if (sweep.IsDefined()) {
-    const int line = sweep.Mark().line + 1;
-    if (!sweep.IsMap())
-      throw CaseError(
-          fmt::format("{}:{}: sweep: expected a map of key.path: [values]", origin, line));
-    for (const auto& item : sweep) {
-      const auto key = item.first.as<std::string>();
-      const Field* field = schema_field(schema, key);
-      // Mark line is -1 when the key came from --set.
-      const std::string at = item.first.Mark().line >= 0
-                                 ? fmt::format("{}:{}", origin, item.first.Mark().line + 1)
-                                 : "--set sweep." + key;
-      const bool numeric =
-          field && (field->type() == ValueType::number || field->type() == ValueType::integer);
-      if (!numeric || !field->is_sweepable()) {
-        std::string sweepable;
-        std::function<void(const Field&, const std::string&)> collect = [&](const Field& f,
-                                                                            const std::string& p) {
-          for (const auto& ch : f.children()) {
-            if (ch.type() == ValueType::section)
-              collect(ch, join(p, ch.key()));
-            else if (ch.is_sweepable())
-              sweepable += (sweepable.empty() ? "" : ", ") + join(p, ch.key());
-          }
-        };
-        collect(schema, "");
-        throw CaseError(fmt::format("{}: sweep.{}: not a sweepable key; expected one of: {}", at,
-                                    key, sweepable.empty() ? "(none)" : sweepable));
-      }
-      if (!item.second.IsSequence() || item.second.size() == 0)
-        throw CaseError(fmt::format("{}: sweep.{}: expected a non-empty list of numbers", at, key));
-      std::vector<double> values;
-      for (std::size_t i = 0; i < item.second.size(); ++i) {
-        const YAML::Node entry = item.second[i];
-        double v = 0;
-        bool ok = false;
-        std::string note;
-        if (field->type() == ValueType::integer) {
-          // integer keys (e.g. dem.seed) take whole numbers within range only, read exactly
-          long long n = 0;
-          const auto status = entry.IsScalar() ? field->parse_integer(entry.as<std::string>(), n)
-                                               : Field::IntegerStatus::not_integer;
-          ok = status == Field::IntegerStatus::ok;
-          if (status == Field::IntegerStatus::out_of_range) note = field->integer_limit_note();
-          if (status == Field::IntegerStatus::inexact) note = " written in digits";
-          v = static_cast<double>(n);
-        } else {
-          ok = parse_number(entry, v) && field->within_bounds(v);
-        }
-        if (!ok)
-          throw CaseError(fmt::format("{}:{}: sweep.{}[{}]: expected {}{}", origin,
-                                      entry.Mark().line + 1, key, i, field->expectation(), note));
-        values.push_back(v);
-      }
-      c.sweep_keys_.push_back(key);
-      c.sweep_values_.push_back(std::move(values));
-    }
-    raw.remove("sweep");
-  }
+  // limits: (limits_section) first: the sweep and the keys below are checked against them.
+  const bool limits_given = raw["limits"].IsDefined();
+  const YAML::Node limits = validator.check(
+      limits_section(), limits_given ? raw["limits"] : YAML::Node(YAML::NodeType::Map), "limits");
+  raw.remove("limits");
+  for (const auto& field : limits_section().children())
+    c.limits_[field.key()] = limits[field.key()].IsDefined()
+                                 ? limits[field.key()].as<double>()
+                                 : static_cast<double>(default_max_ranks());  // max_ranks
 
-  Validator validator{origin, override_locations, c.locations_};
+  c.read_sweep(raw, validator);
+  raw.remove("sweep");
+
   c.root_ = validator.check(schema, raw, "");
+  if (limits_given) c.root_["limits"] = limits;  // in case.yaml only when the case set them
   c.kind_ = c.root_["kind"].IsDefined() ? c.root_["kind"].as<std::string>() : "";
   c.name_ = c.root_["name"].IsDefined() ? c.root_["name"].as<std::string>() : "";
   // `name:` is the run directory runs/<name>/ and appears in files granflow writes: a plain file
@@ -437,25 +281,130 @@ Case Case::parse(const std::string& yaml_text, const std::string& origin,
   return c;
 }
 
+// sweep: { key.path: [values...] }, each key a sweepable number or integer of the schema, each
+// list of distinct values within the key's bounds, and at most limits.max_conditions conditions
+// in all: refused here, before expand_sweep builds one case per condition.
+void Case::read_sweep(const YAML::Node& raw, const Validator& validator) {
+  const YAML::Node sweep = raw["sweep"];
+  if (!sweep.IsDefined()) return;
+  if (!sweep.IsMap())
+    throw CaseError(fmt::format("{}: sweep: expected a map of key.path: [values]",
+                                validator.where("sweep", sweep)));
+  double conditions = 1;
+  std::string sizes, largest_at;
+  std::size_t largest = 0;
+  for (const auto& item : sweep) {
+    const auto key = item.first.as<std::string>();
+    const Field* field = schema_field(*schema_, key);
+    const std::string at = validator.where("sweep." + key, item.first);
+    const bool numeric =
+        field && (field->type() == ValueType::number || field->type() == ValueType::integer);
+    if (!numeric || !field->is_sweepable()) {
+      std::string sweepable;
+      std::function<void(const Field&, const std::string&)> collect = [&](const Field& f,
+                                                                          const std::string& p) {
+        for (const auto& ch : f.children()) {
+          if (ch.type() == ValueType::section)
+            collect(ch, join(p, ch.key()));
+          else if (ch.is_sweepable())
+            sweepable += (sweepable.empty() ? "" : ", ") + join(p, ch.key());
+        }
+      };
+      collect(*schema_, "");
+      throw CaseError(fmt::format("{}: sweep.{}: not a sweepable key; expected one of: {}", at,
+                                  shorten(key), sweepable.empty() ? "(none)" : sweepable));
+    }
+    if (!item.second.IsSequence() || item.second.size() == 0)
+      throw CaseError(fmt::format("{}: sweep.{}: expected a non-empty list of numbers", at, key));
+    std::vector<double> values;
+    std::map<double, std::size_t> seen;  // value -> its first index
+    for (std::size_t i = 0; i < item.second.size(); ++i) {
+      const YAML::Node entry = item.second[i];
+      const std::string entry_at = validator.where("sweep." + key, entry);
+      double v = 0;
+      std::string problem;
+      if (field->type() == ValueType::integer) {
+        // integer keys (e.g. dem.seed) take whole numbers within range only, read exactly
+        long long n = 0;
+        const auto status = entry.IsScalar() ? field->parse_integer(entry.as<std::string>(), n)
+                                             : Field::IntegerStatus::not_integer;
+        if (status != Field::IntegerStatus::ok)
+          problem = "expected " + field->expectation() +
+                    (status == Field::IntegerStatus::out_of_range ? field->integer_limit_note()
+                     : status == Field::IntegerStatus::inexact    ? " written in digits"
+                                                                  : "");
+        v = static_cast<double>(n);
+      } else if (!parse_number(entry, v) || !(field->within_bounds(v) || subnormal(v))) {
+        problem = "expected " + field->expectation();
+      }
+      if (problem.empty()) problem = number_problem(*field, v, entry.as<std::string>(), limits_);
+      if (!problem.empty())
+        throw CaseError(fmt::format("{}: sweep.{}[{}]: {}", entry_at, key, i, problem));
+      if (const auto [it, fresh] = seen.emplace(v, i); !fresh)
+        throw CaseError(fmt::format(
+            "{}: sweep.{}[{}]: value {:g} is listed twice (also [{}]); expected distinct values "
+            "(a repeated condition runs the same point again)",
+            entry_at, key, i, v, it->second));
+      values.push_back(v);
+    }
+    conditions *= double(values.size());
+    sizes += fmt::format("{}{} values of {}", sizes.empty() ? "" : " x ", values.size(), key);
+    if (values.size() > largest) largest = values.size(), largest_at = at;
+    sweep_keys_.push_back(key);
+    sweep_values_.push_back(std::move(values));
+  }
+  if (conditions > limits_.at("max_conditions"))
+    throw CaseError(fmt::format(
+        "{}: sweep: {} = {:.15g} conditions; expected at most limits.max_conditions = {:g} (raise "
+        "limits.max_conditions in the case, or with --set limits.max_conditions=N, to run them "
+        "on purpose)",
+        largest_at, sizes, conditions, limits_.at("max_conditions")));
+}
+
 static YAML::Node lookup(const YAML::Node& root, std::string_view path) {
   YAML::Node node = root;  // yaml-cpp nodes are handles; reassigning a copy is safe for reading
-  for (const auto& part : split_path(path)) {
+  for (const auto& part : split_key_path(path)) {
     if (!node.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
-    YAML::Node next = node[part];
+    const YAML::Node& map = node;  // const access: a missing key adds no pending entry
+    const YAML::Node next = map[part];
     if (!next.IsDefined()) return YAML::Node(YAML::NodeType::Undefined);
     node.reset(next);
   }
   return node;
 }
 
-static YAML::Node required_value(const Case& c, const YAML::Node& root, std::string_view path,
-                                 ValueType type) {
+// A swept value as a node: whole numbers as integers (integer keys read back as such).
+static YAML::Node condition_node(double value) {
+  if (value == std::floor(value) && std::abs(value) < 9.0e15)
+    return YAML::Node(static_cast<long long>(value));
+  return YAML::Node(value);
+}
+
+YAML::Node Case::value_node(std::string_view path) const {
+  for (const auto& [key, value] : condition_)
+    if (key == path) return condition_node(value);
+  return lookup(root_, path);
+}
+
+static YAML::Node required_value(const Case& c, std::string_view path, ValueType type) {
   const Field* field = schema_field(c.schema(), path);
   if (!field) throw std::logic_error(fmt::format("case: '{}' is not in the schema", path));
   if (field->type() != type && !(type == ValueType::string && field->type() == ValueType::choice))
     throw std::logic_error(fmt::format("case: '{}' is a {}, not a {}", path,
                                        to_string(field->type()), to_string(type)));
-  YAML::Node node = lookup(root, path);
+  YAML::Node node = c.value_node(path);
+  // A required key is absent only with its section (an optional section with required keys
+  // stays absent, the kind decides whether it needs it): the kind needs it, so the case is
+  // missing it.
+  if (!node.IsDefined() && field->is_required()) {
+    const auto dot = path.rfind('.');
+    c.fail(path, fmt::format("missing required key{}; expected {}{}",
+                             dot == std::string_view::npos
+                                 ? ""
+                                 : fmt::format(" (with its section {})", path.substr(0, dot)),
+                             field->expectation(),
+                             field->doc().empty() ? "" : " (" + field->doc() + ")"));
+  }
   if (!node.IsDefined())
     throw std::logic_error(
         fmt::format("case: '{}' is optional and not given; check has() first", path));
@@ -463,27 +412,34 @@ static YAML::Node required_value(const Case& c, const YAML::Node& root, std::str
 }
 
 double Case::number(std::string_view path) const {
-  return required_value(*this, root_, path, ValueType::number).as<double>();
+  return required_value(*this, path, ValueType::number).as<double>();
 }
 long Case::integer(std::string_view path) const {
-  return required_value(*this, root_, path, ValueType::integer).as<long>();
+  return required_value(*this, path, ValueType::integer).as<long>();
 }
 bool Case::boolean(std::string_view path) const {
-  return required_value(*this, root_, path, ValueType::boolean).as<bool>();
+  return required_value(*this, path, ValueType::boolean).as<bool>();
 }
 std::string Case::string(std::string_view path) const {
-  return required_value(*this, root_, path, ValueType::string).as<std::string>();
+  return required_value(*this, path, ValueType::string).as<std::string>();
 }
 std::vector<double> Case::number_list(std::string_view path) const {
-  return required_value(*this, root_, path, ValueType::number_list).as<std::vector<double>>();
+  return required_value(*this, path, ValueType::number_list).as<std::vector<double>>();
 }
-bool Case::has(std::string_view path) const { return lookup(root_, path).IsDefined(); }
+bool Case::has(std::string_view path) const { return value_node(path).IsDefined(); }
+
+double Case::limit(std::string_view name) const {
+  const auto it = limits_.find(name);
+  if (it == limits_.end())
+    throw std::logic_error(fmt::format("case: limits.{} is not a size limit", name));
+  return it->second;
+}
 
 std::string Case::location(std::string_view path) const {
   // Swept keys point at the sweep entry.
   for (const auto& [key, value] : condition_)
     if (key == path) return fmt::format("{} (sweep {}={})", origin_, key, value);
-  for (auto it = locations_.rbegin(); it != locations_.rend(); ++it)
+  for (auto it = locations_->rbegin(); it != locations_->rend(); ++it)
     if (it->first == path) return it->second;
   return origin_;
 }
@@ -494,7 +450,21 @@ void Case::fail(std::string_view path, std::string_view expected) const {
 
 std::string Case::resolved_yaml() const {
   YAML::Emitter out;
-  out << root_;
+  if (condition_.empty()) {
+    out << root_;
+  } else {  // a condition of a sweep: its values written into a copy of the tree
+    YAML::Node root = YAML::Clone(root_);
+    for (const auto& [key, value] : condition_) {
+      const auto parts = split_key_path(key);
+      YAML::Node node = root;
+      for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+        if (!node[parts[i]].IsDefined()) node[parts[i]] = YAML::Node(YAML::NodeType::Map);
+        node.reset(node[parts[i]]);
+      }
+      node[parts.back()] = condition_node(value);
+    }
+    out << root;
+  }
   std::string text = out.c_str();
   if (!condition_.empty()) {
     text += "\n# sweep condition:";
@@ -514,27 +484,17 @@ std::string Case::resolved_yaml() const {
 
 std::vector<Case> Case::expand_sweep() const {
   if (sweep_keys_.empty()) return {*this};
+  // The conditions share this case's tree and locations (both read-only from here on): a
+  // condition holds only its swept values, read first by the accessors (value_node).
+  Case base = *this;
+  base.sweep_keys_.clear();
+  base.sweep_values_.clear();
   std::vector<Case> out;
   std::vector<std::size_t> index(sweep_keys_.size(), 0);
   while (true) {
-    Case c = *this;
-    c.root_ = YAML::Clone(root_);
-    c.sweep_keys_.clear();
-    c.sweep_values_.clear();
-    for (std::size_t k = 0; k < sweep_keys_.size(); ++k) {
-      const double value = sweep_values_[k][index[k]];
-      const auto parts = split_path(sweep_keys_[k]);
-      YAML::Node node = c.root_;
-      for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
-        if (!node[parts[i]].IsDefined()) node[parts[i]] = YAML::Node(YAML::NodeType::Map);
-        node.reset(node[parts[i]]);
-      }
-      if (value == std::floor(value) && std::abs(value) < 9.0e15)
-        node[parts.back()] = static_cast<long long>(value);  // integer keys read back as such
-      else
-        node[parts.back()] = value;
-      c.condition_.emplace_back(sweep_keys_[k], value);
-    }
+    Case c = base;
+    for (std::size_t k = 0; k < sweep_keys_.size(); ++k)
+      c.condition_.emplace_back(sweep_keys_[k], sweep_values_[k][index[k]]);
     out.push_back(std::move(c));
     // odometer: the last key varies fastest
     std::size_t k = sweep_keys_.size();
@@ -545,25 +505,6 @@ std::vector<Case> Case::expand_sweep() const {
       if (k == 0) return out;
     }
   }
-}
-
-std::pair<std::string, std::string> peek_kind(const std::filesystem::path& file) {
-  const std::string text = read_case_file(file);  // a FIFO or directory is refused here
-  YAML::Node raw;
-  try {
-    raw = YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
-    throw CaseError(
-        fmt::format("{}:{}: YAML syntax error: {}", file.string(), e.mark.line + 1, e.msg));
-  }
-  if (!raw.IsMap() || !raw["kind"].IsDefined() || !raw["kind"].IsScalar())
-    throw CaseError(
-        fmt::format("{}:1: kind: missing required key; expected the case kind "
-                    "(rev, dem, mpm, pair, calibrate)",
-                    file.string()));
-  std::string test;
-  if (raw["test"].IsDefined() && raw["test"].IsScalar()) test = raw["test"].as<std::string>();
-  return {raw["kind"].as<std::string>(), test};
 }
 
 }  // namespace granflow::core

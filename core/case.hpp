@@ -8,6 +8,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -18,10 +21,18 @@
 
 namespace granflow::core {
 
+struct Validator;
+
+// One line whatever the input echoed in it: control characters and bytes that are not UTF-8
+// are written as escapes (\n, \t, \xNN).
 class CaseError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit CaseError(const std::string& message);
 };
+
+// Input text to echo in a message: at most `max_chars` bytes (cut on a UTF-8 boundary, "..."
+// marks the cut).
+std::string shorten(std::string_view text, std::size_t max_chars = 80);
 
 class Case {
  public:
@@ -41,6 +52,8 @@ class Case {
   std::string string(std::string_view path) const;  // also for choices
   std::vector<double> number_list(std::string_view path) const;
   bool has(std::string_view path) const;  // given in the file/overrides or has a default
+  // The node at `path` (a swept value of this condition first); undefined when absent.
+  YAML::Node value_node(std::string_view path) const;
 
   // Cross-field checks in a kind's validator: throw a CaseError located at `path`.
   [[noreturn]] void fail(std::string_view path, std::string_view expected) const;
@@ -50,6 +63,8 @@ class Case {
   const std::string& kind() const { return kind_; }
   const std::string& origin() const { return origin_; }
   const Schema& schema() const { return *schema_; }
+  // A size bound of limits_section() (e.g. "max_steps"): the case's `limits.NAME` or its default.
+  double limit(std::string_view name) const;
 
   // The resolved case (defaults filled, overrides applied, no sweep) for the run's case.yaml.
   std::string resolved_yaml() const;
@@ -64,18 +79,19 @@ class Case {
 
  private:
   Case() = default;
-  static void merge_includes(YAML::Node& raw, const std::string& origin,
-                             std::vector<std::pair<std::string, std::string>>& locations);
+  void read_sweep(const YAML::Node& raw, const Validator& validator);
 
-  YAML::Node root_;     // validated tree with defaults filled in
+  YAML::Node root_;     // validated tree with defaults filled in (shared by the conditions)
   std::string origin_;  // file name for messages
   std::string name_, kind_;
   const Schema* schema_ = nullptr;
   std::vector<std::string> sweep_keys_;
   std::vector<std::vector<double>> sweep_values_;
   std::vector<std::pair<std::string, double>> condition_;
-  // key path -> where it came from ("file:line" or "--set ...")
-  std::vector<std::pair<std::string, std::string>> locations_;
+  // key path -> where it came from ("file:line" or "--set ..."); shared by the conditions
+  std::shared_ptr<std::vector<std::pair<std::string, std::string>>> locations_ =
+      std::make_shared<std::vector<std::pair<std::string, std::string>>>();
+  std::map<std::string, double, std::less<>> limits_;  // limits_section() values of this case
 };
 
 // Peek `kind:` (and `test:` if present) without validating the rest; throws CaseError.

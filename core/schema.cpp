@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
+#include <thread>
 
 namespace granflow::core {
 
@@ -71,6 +72,12 @@ Field& Field::sweepable() {
   sweepable_ = true;
   return *this;
 }
+Field& Field::limited_by(std::string limit_name) {
+  if (!limits_section().child(limit_name))
+    throw std::logic_error("schema: " + key_ + " limited by an unknown limit " + limit_name);
+  limit_ = std::move(limit_name);
+  return *this;
+}
 
 Field& Field::add(Field child) {
   if (type_ != ValueType::section) throw std::logic_error("schema: add() on a non-section " + key_);
@@ -128,12 +135,14 @@ std::string Field::expectation() const {
   } else if (upper_) {
     what += fmt::format(" {} {}", upper_inclusive_ ? "<=" : "<", format_bound(*upper_));
   }
+  if (!limit_.empty()) what += (lower_ || upper_ ? " and <= limits." : " <= limits.") + limit_;
   if (!unit_.empty()) what += " [" + unit_ + "]";
   return what;
 }
 
 bool Field::within_bounds(double value) const {
   if (!std::isfinite(value)) return false;
+  if (value != 0 && std::abs(value) < std::numeric_limits<double>::min()) return false;
   if (lower_ && (lower_inclusive_ ? value < *lower_ : value <= *lower_)) return false;
   if (upper_ && (upper_inclusive_ ? value > *upper_ : value >= *upper_)) return false;
   return true;
@@ -206,6 +215,42 @@ Schema make_root_schema(std::string doc) {
   return Field("", ValueType::section, "", std::move(doc));
 }
 
+long long default_max_ranks() {
+  return 4 * std::max(1LL, static_cast<long long>(std::thread::hardware_concurrency()));
+}
+
+const Field& limits_section() {
+  static const Field limits = [] {
+    Field l("limits", ValueType::section, "",
+            "size bounds, checked before anything is expanded, allocated or started; raise one "
+            "(here or with --set limits.KEY=N) to run beyond it on purpose");
+    l.integer("max_conditions",
+              "most conditions a sweep may have: the product of its list lengths, refused "
+              "before the conditions are built (each takes memory in check and a run)")
+        .default_value("10000")
+        .at_least(1);
+    l.integer("max_particles",
+              "most spheres of a DEM run (dem.particles); 1e6 spheres sheared over strain 20 at "
+              "25 600 steps per unit strain take about a day at the 7e6 particle-steps/s "
+              "measured on one core (docs/performance.md)")
+        .default_value("1000000")
+        .at_least(1);
+    l.integer("max_ranks",
+              "most MPI ranks of one DEM run (dem.ranks); default 4 x the hardware threads of "
+              "the machine that checks the case (at least 4): granflow-dem is started with "
+              "mpirun --oversubscribe, which lifts Open MPI's own bound")
+        .at_least(1);
+    l.number("max_steps", "",
+             "most time steps a DEM run may take: dem.compression_steps + strain.total / "
+             "(shear_rate × Δt) with the Δt the deck will use; 1e10 steps of 1000 spheres take "
+             "about two weeks at 7e6 particle-steps/s")
+        .default_value("1e10")
+        .greater_than(0);
+    return l;
+  }();
+  return limits;
+}
+
 static void markdown_rows(const Field& field, const std::string& prefix, std::ostringstream& out) {
   for (const auto& c : field.children()) {
     const std::string path = prefix.empty() ? c.key() : prefix + "." + c.key();
@@ -229,6 +274,10 @@ std::string schema_markdown(const Schema& schema, const std::string& title) {
   out << "### " << title << "\n\n" << schema.doc() << "\n\n";
   out << "| key | expected | unit | default | meaning |\n|---|---|---|---|---|\n";
   markdown_rows(schema, "", out);
+  // every kind accepts the size limits (limits_section)
+  const Field& limits = limits_section();
+  out << "| `limits` | section | | | " << limits.doc() << " |\n";
+  markdown_rows(limits, "limits", out);
   out << "\n";
   return out.str();
 }

@@ -28,6 +28,8 @@ class Field {
   Field& at_most(double bound);                    // value <= bound
   Field& choices(std::vector<std::string> names);  // for ValueType::choice
   Field& sweepable();                              // may be listed under `sweep:`
+  // value <= limits.<name> of the case (limits_section(): a size bound the user may raise)
+  Field& limited_by(std::string limit_name);
 
   // Children of a section. References stay valid (deque), so fragments can be built in place.
   Field& section(std::string key, std::string doc);
@@ -47,12 +49,14 @@ class Field {
   bool is_sweepable() const { return sweepable_; }
   const std::optional<std::string>& default_text() const { return default_; }
   const std::vector<std::string>& choice_names() const { return choices_; }
+  const std::string& limit_name() const { return limit_; }  // empty: not limited_by
   const std::deque<Field>& children() const { return children_; }
   const Field* child(const std::string& key) const;
 
   // "> 0", "in (0, 1]", "one of: a, b" ... used in error messages and docs.
   std::string expectation() const;
-  // Check a number against the bounds; returns false if outside.
+  // Check a number against the bounds; returns false if outside. Subnormal numbers (nonzero,
+  // below 2.2e-308 in magnitude) are outside every range: they underflow in any arithmetic.
   bool within_bounds(double value) const;
 
   // Integer fields: the scalar text is read as an integer exactly, never through a double
@@ -80,12 +84,24 @@ class Field {
   std::optional<double> lower_, upper_;
   bool lower_inclusive_ = false, upper_inclusive_ = false;
   std::vector<std::string> choices_;
+  std::string limit_;
   std::deque<Field> children_;
 };
 
 // A whole case kind's schema is its root section.
 using Schema = Field;
 Schema make_root_schema(std::string doc);
+
+// Size limits: the `limits:` section every case kind accepts (core reserves the key, as it does
+// `sweep:` and `include:`). A case may ask for far more than a machine can do (a 1000 x 1000
+// sweep, 3e9 spheres, 1e5 MPI ranks, 1e16 time steps); granflow refuses it before anything is
+// expanded or allocated, and a user who means it raises the bound in the case file or with
+// `--set limits.NAME=...`. Keys: max_conditions (sweep conditions, the product of the list
+// lengths), max_particles (dem.particles), max_ranks (dem.ranks; default 4 x the hardware
+// threads of this machine, at least 4), max_steps (time steps a DEM run implies).
+const Field& limits_section();
+// The default of limits.max_ranks on this machine.
+long long default_max_ranks();
 
 // Markdown reference of one schema (used for docs/cases.md).
 std::string schema_markdown(const Schema& schema, const std::string& title);

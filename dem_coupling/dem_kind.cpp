@@ -32,6 +32,11 @@ core::Schema shear_schema() {
   // The continuum's material section (one description for both), with DEM-only keys added and
   // the friction made sweepable (frictional vs frictionless sweeps).
   core::Field material = continuum::material_section();
+  // The grain density from 1 kg/m^3, lighter than any granular solid: far below it the deck's
+  // masses, contact times and stresses underflow.
+  core::Field density = *material.child("particle_density");
+  density.at_least(1);
+  material.add(std::move(density));
   material.number("particle_friction", "", "interparticle friction coefficient μ_p")
       .default_value("0.5")
       .at_least(0)
@@ -95,14 +100,21 @@ core::Schema shear_schema() {
       .greater_than(0)
       .at_most(1);
   auto& dem = s.section("dem", "DEM run settings");
-  dem.integer("particles", "number of spheres").default_value("1000").greater_than(0);
+  dem.integer("particles", "number of spheres")
+      .default_value("1000")
+      .greater_than(0)
+      .limited_by("max_particles");
   dem.integer("seed",
               "random seed of the initial packing and sizes (sweep it for the sample-to-sample "
-              "scatter the batch-means error bars leave out)")
+              "scatter the batch-means error bars leave out); a positive int (1 to 2147483647), "
+              "as LIGGGHTS' own random seeds")
       .default_value("1")
-      .at_least(0)
+      .at_least(1)
       .sweepable();
-  dem.integer("ranks", "MPI ranks (mpirun -np) for granflow-dem").default_value("1").at_least(1);
+  dem.integer("ranks", "MPI ranks (mpirun -np) for granflow-dem")
+      .default_value("1")
+      .at_least(1)
+      .limited_by("max_ranks");
   dem.number("time_step_safety", "",
              "Δt = safety × min(Rayleigh time, Hertz contact time); hooke: safety × t_c of the "
              "linear spring-dashpot")
@@ -216,6 +228,49 @@ ShearDeckParams read_shear_params(const core::Case& c) {
 
 namespace {
 
+// The run a case implies, from the Δt and step counts the deck will use (shear_deck_timing:
+// no particles are placed, so this costs the same at any dem.particles): at most
+// limits.max_steps time steps, and >= 100 samples for the batch-means error bars.
+void check_run_length(const core::Case& c, const ShearDeckParams& p) {
+  const ShearDeck timing = shear_deck_timing(p);
+  const double strain_per_step = p.shear_rate * timing.dt;
+  const double steps = double(p.compression_steps) + p.total_strain / strain_per_step;
+  const double max_steps = c.limit("max_steps");
+  if (!(steps <= max_steps)) {
+    // Blame strain.total when the run would fit at its default strain, else the shear rate.
+    const double default_strain =
+        std::stod(*c.schema().child("strain")->child("total")->default_text());
+    const bool long_strain =
+        p.total_strain > default_strain &&
+        double(p.compression_steps) + default_strain / strain_per_step <= max_steps;
+    c.fail(long_strain ? "strain.total" : "shear_rate",
+           fmt::format("the run would take {:.3g} time steps (dem.compression_steps {} + "
+                       "strain.total {:g} / (shear_rate {:g} 1/s × Δt {:.3g} s, set by the {} "
+                       "limit)); expected at most limits.max_steps = {:g} ({}, or raise "
+                       "limits.max_steps to run it on purpose)",
+                       steps, p.compression_steps, p.total_strain, p.shear_rate, timing.dt,
+                       timing.dt_limit, max_steps,
+                       long_strain ? "a smaller strain.total" : "a larger shear_rate"));
+  }
+  // At least a few samples per unit strain and a steady part long enough for batch means.
+  const long samples = timing.total_steps / timing.sample_every;
+  if (samples >= 100) return;
+  if (p.total_strain / p.sample_strain < 100.0 * (1.0 - 1e-9))
+    c.fail("strain.sample",
+           fmt::format("at most strain.total/100 = {:g} (batch means need >= 100 samples)",
+                       p.total_strain / 100.0));
+  // strain.sample is small enough, but a time step is a large strain at this rate: rounded to
+  // whole steps, a sample interval holds more strain than asked and the run fewer samples.
+  c.fail(
+      "shear_rate",
+      fmt::format("a time step is γ̇ Δt = {:.3g} strain (Δt = {:.3g} s, set by the {} limit), "
+                  "so strain.sample = {:g} takes {} steps = {:.3g} strain and strain.total = "
+                  "{:g} holds {} samples; expected >= 100 samples for the batch-means error "
+                  "bars (a lower shear_rate or dem.time_step_safety, or a larger strain.total)",
+                  strain_per_step, timing.dt, timing.dt_limit, p.sample_strain, timing.sample_every,
+                  double(timing.sample_every) * strain_per_step, p.total_strain, samples));
+}
+
 void check_shear(const core::Case& sweep_case) {
   for (const core::Case& c : sweep_case.expand_sweep()) {
     if (c.string("control.mode") == "constant_pressure" && !c.has("control.normal_stress"))
@@ -226,12 +281,7 @@ void check_shear(const core::Case& sweep_case) {
              "missing required key for contact_law: hooke; expected k_n > 0 [N/m]");
     const ShearDeckParams p = read_shear_params(c);
     for (const auto& [path, expected] : check_shear_params(p)) c.fail(path, expected);
-    const ShearDeck deck = make_shear_deck(p, "particles.data");
-    // At least a few samples per unit strain and a steady part long enough for batch means.
-    if (deck.total_steps / deck.sample_every < 100)
-      c.fail("strain.sample",
-             fmt::format("at most strain.total/100 = {:g} (batch means need >= 100 samples)",
-                         p.total_strain / 100.0));
+    check_run_length(c, p);
   }
 }
 

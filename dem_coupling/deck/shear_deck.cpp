@@ -45,8 +45,31 @@ double sphere_mass(double diameter, double particle_density) {
   return particle_density * std::numbers::pi / 6.0 * diameter * diameter * diameter;
 }
 
+// Whole steps for `strain` at γ̇ Δt per step, at least 1; saturated at 1e18 (no overflow when a
+// case asks for more: the case check refuses such runs, limits.max_steps).
 long steps_for(double strain, double shear_rate, double dt) {
-  return std::max(1L, std::lround(strain / (shear_rate * dt)));
+  const double steps = strain / (shear_rate * dt);
+  return std::max(1L, std::lround(steps < 1e18 ? steps : 1e18));
+}
+
+// The fluid time-step input of an immersed deck (fluid_time_step.hpp).
+FluidTimeStepInput fluid_step_input(const ShearDeckParams& p, const ShearDeck& timing) {
+  const DemMaterial& m = p.material;
+  FluidTimeStepInput in;
+  in.fluid.liquid.viscosity = p.wet.viscosity;
+  in.fluid.liquid.permeability = model::parse_permeability(p.wet.permeability);
+  in.fluid.liquid.sphericity = p.wet.sphericity;
+  in.fluid.rotational_drag = p.wet.rotational_drag;
+  in.fluid.lubrication = p.wet.lubrication;
+  in.fluid.tangential_lubrication = p.wet.tangential_lubrication;
+  in.fluid.maximum_gap = p.wet.maximum_gap * m.diameter;
+  in.fluid.minimum_gap = p.wet.minimum_gap * m.diameter;
+  in.contact_time = timing.times.shortest();
+  in.particle_density = m.particle_density;
+  in.smallest_radius = 0.5 * timing.small_diameter;
+  in.largest_radius = 0.5 * timing.large_diameter;
+  in.solid_fraction = timing.fluid_solid_fraction;
+  return in;
 }
 
 }  // namespace
@@ -91,6 +114,20 @@ std::vector<std::pair<std::string, std::string>> check_shear_params(const ShearD
     issues.emplace_back("material.poisson_ratio", "in (-1, 0.5)");
   if (!(m.restitution > 0.0 && m.restitution <= 1.0))
     issues.emplace_back("material.restitution", "in (0, 1] (the contact damping needs e > 0)");
+  // LIGGGHTS' own bounds on the material of its hertz model (global_properties.cpp, SI units:
+  // "0.05 < coefficientRestitution <= 1", "youngsModulus >= 5e6", "<= 1e9", "0 <= poissonsRatio
+  // <= 0.5 required"), checked here instead of stopping LIGGGHTS after launch; hooke decks pass
+  // stiffnesses and a damping rate instead.
+  else if (m.contact_law == ContactLaw::hertz && !(m.restitution > 0.05))
+    issues.emplace_back("material.restitution",
+                        "> 0.05 with contact_law hertz (LIGGGHTS refuses coefficientRestitution "
+                        "<= 0.05); contact_law hooke takes smaller values");
+  if (m.contact_law == ContactLaw::hertz && !(m.youngs_modulus >= 5e6 && m.youngs_modulus <= 1e9))
+    issues.emplace_back("material.youngs_modulus",
+                        "in [5e6, 1e9] Pa with contact_law hertz (LIGGGHTS' bounds for SI units); "
+                        "contact_law hooke sets the stiffness directly");
+  if (m.contact_law == ContactLaw::hertz && !(m.poisson_ratio >= 0.0))
+    issues.emplace_back("material.poisson_ratio", ">= 0 with contact_law hertz (LIGGGHTS' bound)");
   if (m.contact_law == ContactLaw::hooke) {
     if (!(m.normal_stiffness > 0.0))
       issues.emplace_back("material.normal_stiffness", "k_n > 0 [N/m] for contact_law: hooke");
@@ -164,12 +201,56 @@ double default_servo_gain(const ShearDeckParams& p) {
   return std::clamp(loop_gain / stress_sensitivity, 1e-4, 0.05);
 }
 
-ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file_name) {
+ShearDeck shear_deck_timing(const ShearDeckParams& p) {
   ShearDeck out;
   const DemMaterial& m = p.material;
   const SizeRange range = size_range(m);
   out.small_diameter = range.small;
   out.large_diameter = range.large;
+  // --- time step from the contact time of the smallest particle
+  const double reference_speed = p.impact_speed_factor * p.shear_rate * range.large;
+  out.times = contact_times(0.5 * range.small, m.particle_density, m.youngs_modulus,
+                            m.poisson_ratio, reference_speed);
+  if (m.contact_law == ContactLaw::hooke)  // two of the smallest spheres: m* = m_small / 2
+    out.times.linear_spring = linear_spring_contact_time(
+        0.5 * sphere_mass(range.small, m.particle_density), m.normal_stiffness, m.restitution);
+  out.dt = p.dt_safety * out.times.shortest();
+  if (p.wet.enabled) {
+    // Immersed: dt = min(dt_safety t_contact, viscous_safety min(τ_drag, τ_rot, τ_n, τ_t))
+    // (fluid_time_step.hpp). The drag time scale shortens with ν; the fix re-checks dt against
+    // the current ν at every setup, so take the target φ, or max(φ0, 0.6) when a servo sets it.
+    out.fluid_solid_fraction =
+        p.constant_pressure ? std::max(p.solid_fraction, 0.6) : p.solid_fraction;
+    out.fluid_times = fluid_time_scales(fluid_step_input(p, out));
+    const FluidTimeStep step =
+        stable_fluid_time_step(out.fluid_times, p.dt_safety, p.wet.viscous_safety);
+    out.dt = step.dt;
+    out.dt_limit = step.limited_by;
+  }
+  out.sample_every = steps_for(p.sample_strain, p.shear_rate, out.dt);
+  out.servo_every =
+      p.constant_pressure
+          ? std::max(1L, std::lround(double(steps_for(p.servo_strain, p.shear_rate, out.dt)) /
+                                     double(out.sample_every))) *
+                out.sample_every
+          : out.sample_every;
+  const long samples_per_update = out.servo_every / out.sample_every;
+  if (p.wet.enabled && p.constant_pressure && samples_per_update >= 2)
+    out.servo_move_every =
+        std::clamp(std::lround(0.4 * double(samples_per_update)), 1L, samples_per_update - 1) *
+        out.sample_every;
+  const long block = p.constant_pressure ? out.servo_every : out.sample_every;
+  out.total_steps =
+      std::max(1L, std::lround(double(steps_for(p.total_strain, p.shear_rate, out.dt)) / block)) *
+      block;
+  return out;
+}
+
+ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file_name) {
+  ShearDeck out = shear_deck_timing(p);
+  const DemMaterial& m = p.material;
+  const SizeRange range = size_range(m);
+  const double reference_speed = p.impact_speed_factor * p.shear_rate * range.large;
 
   // --- diameters (seeded)
   std::mt19937_64 rng(p.seed);
@@ -211,40 +292,11 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
       "Atoms\n\n{}",
       n, p.seed, n, out.initial_box_length, out.initial_box_length, out.initial_box_length, atoms);
 
-  // --- time step from the contact time of the smallest particle
-  const double reference_speed = p.impact_speed_factor * p.shear_rate * range.large;
-  out.times = contact_times(0.5 * range.small, m.particle_density, m.youngs_modulus,
-                            m.poisson_ratio, reference_speed);
-  if (m.contact_law == ContactLaw::hooke)  // two of the smallest spheres: m* = m_small / 2
-    out.times.linear_spring = linear_spring_contact_time(
-        0.5 * sphere_mass(range.small, m.particle_density), m.normal_stiffness, m.restitution);
-  out.dt = p.dt_safety * out.times.shortest();
   std::string fluid_fix;
   if (p.wet.enabled) {
-    // Immersed: dt = min(dt_safety t_contact, viscous_safety min(τ_drag, τ_rot, τ_n, τ_t))
-    // (fluid_time_step.hpp). The drag time scale shortens with ν; the fix re-checks dt against
-    // the current ν at every setup, so take the target φ, or max(φ0, 0.6) when a servo sets it.
-    out.fluid_solid_fraction =
-        p.constant_pressure ? std::max(p.solid_fraction, 0.6) : p.solid_fraction;
-    FluidTimeStepInput in;
-    in.fluid.liquid.viscosity = p.wet.viscosity;
-    in.fluid.liquid.permeability = model::parse_permeability(p.wet.permeability);
-    in.fluid.liquid.sphericity = p.wet.sphericity;
-    in.fluid.rotational_drag = p.wet.rotational_drag;
-    in.fluid.lubrication = p.wet.lubrication;
-    in.fluid.tangential_lubrication = p.wet.tangential_lubrication;
-    in.fluid.maximum_gap = p.wet.maximum_gap * m.diameter;
-    in.fluid.minimum_gap = p.wet.minimum_gap * m.diameter;
-    in.contact_time = out.times.shortest();
-    in.particle_density = m.particle_density;
-    in.smallest_radius = 0.5 * range.small;
-    in.largest_radius = 0.5 * range.large;
-    in.solid_fraction = out.fluid_solid_fraction;
-    out.fluid_times = fluid_time_scales(in);
+    const FluidTimeStepInput in = fluid_step_input(p, out);
     const FluidTimeStep step =
         stable_fluid_time_step(out.fluid_times, p.dt_safety, p.wet.viscous_safety);
-    out.dt = step.dt;
-    out.dt_limit = step.limited_by;
     const auto yes_no = [](bool b) { return b ? "yes" : "no"; };
     fluid_fix = fmt::format(
         "\n# ---- immersed: drag, rotational drag, lubrication about the Lees-Edwards flow "
@@ -260,22 +312,6 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
                           in.fluid.minimum_gap, yes_no(p.wet.tangential_lubrication))
             : std::string());
   }
-  out.sample_every = steps_for(p.sample_strain, p.shear_rate, out.dt);
-  out.servo_every =
-      p.constant_pressure
-          ? std::max(1L, std::lround(double(steps_for(p.servo_strain, p.shear_rate, out.dt)) /
-                                     double(out.sample_every))) *
-                out.sample_every
-          : out.sample_every;
-  const long samples_per_update = out.servo_every / out.sample_every;
-  if (p.wet.enabled && p.constant_pressure && samples_per_update >= 2)
-    out.servo_move_every =
-        std::clamp(std::lround(0.4 * double(samples_per_update)), 1L, samples_per_update - 1) *
-        out.sample_every;
-  const long block = p.constant_pressure ? out.servo_every : out.sample_every;
-  out.total_steps =
-      std::max(1L, std::lround(double(steps_for(p.total_strain, p.shear_rate, out.dt)) / block)) *
-      block;
   out.box_length = std::cbrt(out.solid_volume / p.solid_fraction);
 
   const double skin = 0.2 * out.mean_diameter;

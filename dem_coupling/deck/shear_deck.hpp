@@ -120,6 +120,11 @@ std::vector<std::pair<std::string, std::string>> check_shear_params(const ShearD
 // docs/dem_fluid.md). The dry rule alone (0.01 at I = 0.1) is 1.5x too small at J = 0.1.
 double default_servo_gain(const ShearDeckParams& p);
 
+// The ShearDeck fields make_shear_deck derives without the particles: small/large diameter,
+// contact and fluid times, dt and the limit that sets it, sample/servo/total step counts (step
+// counts saturate at 1e18). Cheap at any dem.particles: what the case check uses.
+ShearDeck shear_deck_timing(const ShearDeckParams& p);
+
 // Builds the deck; `data_file_name` is the particle file name as the deck refers to it.
 ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file_name);
 
