@@ -1226,22 +1226,28 @@ void Solver::constitutive_update(bool move) {
         }
       });
     }
-    auto smooth = [&](long p) {
-      if (options_.liquid_volumetric_smoothing) {
-        rate[p] = acc_[liquid_cell_[p]] / acc_[nn + liquid_cell_[p]];
-      }
-    };
+    // The cell sums live in acc_ only until the next scatter: relax_pressure scatters its own
+    // nodal sums into acc_, so every point takes its cell-averaged rate into its own slot of
+    // `rate` (volumetric_rate_) before that.
+    bool smoothed = !options_.liquid_volumetric_smoothing;
+    auto smooth = [&](long p) { rate[p] = acc_[liquid_cell_[p]] / acc_[nn + liquid_cell_[p]]; };
     double mean_rate = 0.0;
     if (options_.closed_domain) {
       // Volume-weighted mean rate (smoothing the rate of each point on the way).
       const auto [rate_volume, volume] =
           liquid_volume_sums([&](std::size_t p) -> std::optional<double> {
-            smooth(static_cast<long>(p));
+            if (!smoothed) smooth(static_cast<long>(p));
             return rate[p];
           });
+      smoothed = true;
       mean_rate = rate_volume / volume;
     }
     if (options_.pressure_relaxation_time > 0.0) {
+      if (!smoothed) {
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
+        for (long p = 0; p < nl; ++p) smooth(p);
+        smoothed = true;
+      }
       std::visit([&](const auto& g) { relax_pressure<std::decay_t<decltype(g)>>(g); }, grid_);
     }
 #pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1) \
@@ -1250,7 +1256,7 @@ void Solver::constitutive_update(bool move) {
     for (long p = 0; p < nl; ++p) {
       if (options_.closed_domain) {
         rate[p] -= mean_rate;
-      } else {
+      } else if (!smoothed) {
         smooth(p);
       }
       if (liquid_point(p)) bad_liquid = std::max(bad_liquid, p);
