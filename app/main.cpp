@@ -7,10 +7,12 @@
 // N ranks (core/sweep_scheduler.hpp, docs/parallel-runs.md); rank 0 writes the run directory.
 // `study closures` shares its closure combinations over the ranks the same way.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -347,12 +349,23 @@ int run_main(int argc, char** argv) {
         core::interrupt_name(), dir.string());
     code = core::interrupt_exit_code();
   }
-  // summary.json holds finite numbers only: a non-finite result is a numerical failure.
+  // summary.json holds finite numbers only. NaN is how a kind says "not available" (a fit with
+  // too few points, a point the model cannot carry): left out, listed once. An infinity is never
+  // a result: it is a numerical failure.
+  std::vector<std::string> unavailable;
   for (const auto& key : context->summary.non_finite()) {
+    const double value = context->summary.get(key);
+    if (std::isnan(value)) {
+      unavailable.push_back(key);
+      continue;
+    }
     log.error("numerical failure: result {} = {} is not finite; left out of summary.json", key,
-              context->summary.get(key));
+              value);
     if (code == core::exit_ok) code = core::exit_numerical;
   }
+  if (!unavailable.empty())
+    log.info("{} result(s) not available (NaN), left out of summary.json: {}", unavailable.size(),
+             fmt::join(unavailable, ", "));
   try {
     context->finish();
   } catch (const core::IoError& e) {

@@ -1,6 +1,8 @@
 // Run directory, summary.json, result.h5 and the numerical-failure stop.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <sstream>
 
 #include <cmath>
@@ -35,18 +37,30 @@ TEST(RunDirectory, ExistingDirectoryIsNeverOverwrittenWithoutForce) {
   fs::remove_all(dir);
 }
 
-TEST(Summary, RoundTripsNumbersExactlyAndNaNAsNull) {
+TEST(Summary, RoundTripsNumbersExactlyAndLeavesOutWhatIsNotFinite) {
   const fs::path dir = fresh_dir("summary");
   fs::create_directories(dir);
   Summary s;
   s.set("steady.mu", 0.1 + 0.2);  // not representable in short decimal: checks %.17g
   s.set("cost.wall_s", 1.5e-7);
   s.set("steady.J", std::nan(""));
+  s.set("steady.I", std::numeric_limits<double>::infinity());
+  EXPECT_EQ(s.non_finite(), (std::vector<std::string>{"steady.I", "steady.J"}));
   s.write(dir / "summary.json");
   const Summary r = Summary::read(dir / "summary.json");
   EXPECT_EQ(r.get("steady.mu"), 0.1 + 0.2);
   EXPECT_EQ(r.get("cost.wall_s"), 1.5e-7);
-  EXPECT_TRUE(std::isnan(r.get("steady.J")));
+  // summary.json holds finite numbers only: no null, nan or inf in the file.
+  EXPECT_FALSE(r.contains("steady.J"));
+  EXPECT_FALSE(r.contains("steady.I"));
+  std::stringstream text;
+  text << std::ifstream(dir / "summary.json").rdbuf();
+  EXPECT_EQ(text.str().find("null"), std::string::npos);
+  EXPECT_EQ(text.str().find("inf"), std::string::npos);
+  EXPECT_EQ(text.str().find("nan"), std::string::npos);
+  // A file of an earlier granflow with null still reads (as NaN).
+  std::ofstream(dir / "old.json") << "{\n  \"steady.J\": null\n}\n";
+  EXPECT_TRUE(std::isnan(Summary::read(dir / "old.json").get("steady.J")));
   fs::remove_all(dir);
 }
 
