@@ -14,6 +14,7 @@
 #include "continuum/mpm/checkpoint.hpp"
 #include "continuum/mpm/field_writer.hpp"
 #include "continuum/mpm/problems.hpp"
+#include "continuum/mpm/restart.hpp"
 #include "continuum/mpm/rheometer.hpp"
 #include "continuum/multi_regime/model_sections.hpp"
 #include "core/interrupt.hpp"
@@ -241,6 +242,7 @@ void check_terzaghi(const core::Case& c) {
     c.fail("geometry.cell", "a cell size that divides geometry.height");
   if (!multiple(c.number("geometry.width"), c.number("geometry.cell")))
     c.fail("geometry.width", "a multiple of geometry.cell");
+  if (const auto r = check_restart(c, {"run.isochrones"})) check_terzaghi_restart(c, *r);
 }
 
 void check_couette(const core::Case& c) {
@@ -251,6 +253,7 @@ void check_couette(const core::Case& c) {
     c.fail("geometry.outer_radius", "a value > geometry.inner_radius");
   if (!(c.number("run.average_from") < c.number("run.end_time")))
     c.fail("run.average_from", "a time < run.end_time");
+  if (const auto r = check_restart(c, {"run.average_from"})) check_couette_restart(c, *r);
 }
 
 void check_column(const core::Case& c) {
@@ -259,6 +262,8 @@ void check_column(const core::Case& c) {
     c.fail("geometry.cell", "a cell size that divides geometry.height");
   if (!multiple(c.number("geometry.width"), c.number("geometry.cell")))
     c.fail("geometry.width", "a multiple of geometry.cell");
+  if (const auto r = check_restart(c, {}))
+    check_restart_end(c, *r, c.number("run.end_time"), "run.end_time");
 }
 
 // ---- running -----------------------------------------------------------------------------------
@@ -293,8 +298,8 @@ double advance(core::RunContext& ctx, Solver& s, double end_time, FieldWriter* f
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-void report_setup(core::RunContext& ctx, const Solver& s) {
-  const auto& L = s.limits();
+void report_setup(core::RunContext& ctx, const Solver& s, const RunHistory& history) {
+  const auto& L = history.limits(s);
   ctx.log->info(
       "mpm: {} solid + {} liquid points, {} grid nodes, {} thread(s); Δt = {:.4g} s (critical: "
       "wave {:.4g}, viscous {:.4g}, drag {:.4g} s; factor {:g}{})",
@@ -316,7 +321,8 @@ void report_setup(core::RunContext& ctx, const Solver& s) {
         s.liquid_options().bulk_modulus);
 }
 
-void common_summary(core::RunContext& ctx, const Solver& s, double wall, double ms0, double ml0) {
+void common_summary(core::RunContext& ctx, const Solver& s, const RunHistory& history, double wall,
+                    double ms0, double ml0) {
   auto& sum = ctx.summary;
   const double points = static_cast<double>(s.solid().size() + s.liquid().size());
   sum.set("cost.steps", static_cast<double>(s.steps()));
@@ -326,7 +332,7 @@ void common_summary(core::RunContext& ctx, const Solver& s, double wall, double 
   sum.set("mpm.particles_liquid", static_cast<double>(s.liquid().size()));
   sum.set("mpm.dt", s.dt());
   sum.set("mpm.flip_step", s.flip_fraction());
-  sum.set("mpm.dt_critical", s.limits().critical());
+  sum.set("mpm.dt_critical", history.limits(s).critical());
   sum.set("mpm.threads", s.threads());
   sum.set("mpm.mass_scaling", s.options().mass_scaling);
   if (s.liquid().size() > 0) sum.set("mpm.bulk_modulus", s.liquid_options().bulk_modulus);
@@ -336,19 +342,9 @@ void common_summary(core::RunContext& ctx, const Solver& s, double wall, double 
           ml0 > 0 ? std::fabs(s.total_mass(Phase::liquid) - ml0) / ml0 : 0.0);
 }
 
-void finish_output(core::RunContext& ctx, const Solver& s) {
-  if (ctx.run_case.boolean("output.checkpoint")) {
-    write_checkpoint(ctx.directory / "checkpoint.h5", s);
-    ctx.log->info("checkpoint written: {}", (ctx.directory / "checkpoint.h5").string());
-  }
-}
-
-void maybe_restart(core::RunContext& ctx, Solver& s) {
-  if (!ctx.run_case.has("output.restart_from")) return;
-  const std::string file = ctx.run_case.string("output.restart_from");
-  if (file.empty()) return;
-  read_checkpoint(file, s);
-  ctx.log->info("restarted from {} at t = {:.6g} s (step {})", file, s.time(), s.steps());
+// The checkpoint with the run's history (continuum/mpm/restart.hpp).
+void finish_output(core::RunContext& ctx, const Solver& s, const RunHistory& history) {
+  write_run_checkpoint(ctx, s, history);
 }
 
 std::unique_ptr<FieldWriter> field_writer(core::RunContext& ctx) {
@@ -381,20 +377,29 @@ int run_terzaghi(core::RunContext& ctx) {
   t.undrained_start = c.boolean("loading.undrained_start");
   t.options = read_options(c);
   auto s = make_terzaghi(t);
-  maybe_restart(ctx, *s);
-  report_setup(ctx, *s);
+  RunHistory history = restore_run(ctx, *s);
+  report_setup(ctx, *s, history);
   const TerzaghiConstants k = terzaghi_constants(t);
   ctx.log->info(
       "Terzaghi: p0 = {:.6g} Pa, k_D = {:.6g} m/s{}, c_v = {:.6g} m²/s, final "
       "settlement {:.6g} m",
       k.p0, k.hydraulic_conductivity, t.closure_drag ? " (equivalent to the closure)" : "", k.cv,
       k.final_settlement);
-  const double ms0 = s->total_mass(Phase::solid), ml0 = s->total_mass(Phase::liquid);
+  const double ms0 = history.get("mass.solid0", s->total_mass(Phase::solid));
+  const double ml0 = history.get("mass.liquid0", s->total_mass(Phase::liquid));
   auto isochrones = c.number_list("run.isochrones");
   std::sort(isochrones.begin(), isochrones.end());
   auto fields = field_writer(ctx);
   const int frames = static_cast<int>(c.integer("output.frames"));
-  std::vector<double> time, settlement, settlement_exact, p_base, p_base_exact;
+  std::vector<double> time, settlement, settlement_exact;
+  history.get("series.time", time);
+  history.get("series.settlement", settlement);
+  history.get("series.settlement_exact", settlement_exact);
+  // The isochrones checked before a restart (check_terzaghi_restart: they come first).
+  std::vector<double> done_Tv, done_p_err, done_s_err;
+  history.get("terzaghi.isochrones", done_Tv);
+  history.get("terzaghi.pressure_errors", done_p_err);
+  history.get("terzaghi.settlement_errors", done_s_err);
   const long sample_every = 20;
   auto sample = [&]() {
     if (s->steps() % sample_every != 0) return;
@@ -404,24 +409,52 @@ int run_terzaghi(core::RunContext& ctx) {
     settlement.push_back(u);
     settlement_exact.push_back(ue);
   };
-  double wall = 0, max_p_err = 0, max_s_err = 0;
-  for (std::size_t i = 0; i < isochrones.size(); ++i) {
+  double wall = 0;
+  // Isochrone i in result.h5 (depth, p at the liquid points, exact p) and in the history.
+  auto isochrone = [&](std::size_t i, double Tv, double at, double ep, std::vector<double> depth,
+                       std::vector<double> p, std::vector<double> pe) {
+    const std::string g = fmt::format("/isochrones/{}", i);
+    ctx.result.write(g + "/depth", depth, "m", "depth below the top of the liquid points");
+    ctx.result.write(g + "/pressure", p, "Pa", "pore pressure at the liquid points");
+    ctx.result.write(g + "/pressure_exact", pe, "Pa", "Terzaghi series at the same depths");
+    ctx.result.attribute(g, "time_factor", Tv);
+    ctx.result.attribute(g, "time", at);
+    ctx.result.attribute(g, "pressure_rms_error_over_p0", ep);
+    const std::string h = fmt::format("terzaghi.isochrone_{}.", i);
+    history.set(h + "time", at);
+    history.set(h + "depth", std::move(depth));
+    history.set(h + "pressure", std::move(p));
+    history.set(h + "pressure_exact", std::move(pe));
+  };
+  for (std::size_t i = 0; i < done_Tv.size(); ++i) {
+    const std::string h = fmt::format("terzaghi.isochrone_{}.", i);
+    std::vector<double> at, depth, p, pe;
+    history.get(h + "time", at);
+    history.get(h + "depth", depth);
+    history.get(h + "pressure", p);
+    history.get(h + "pressure_exact", pe);
+    isochrone(i, done_Tv[i], at.at(0), done_p_err.at(i), depth, p, pe);
+  }
+  for (std::size_t i = done_Tv.size(); i < isochrones.size(); ++i) {
     const double Tv = isochrones[i];
     const double end = Tv * t.height * t.height / k.cv;
     // One frame set over the whole run: frames are spaced on the last isochrone's time.
     wall +=
         advance(ctx, *s, end, i + 1 == isochrones.size() ? fields.get() : nullptr, frames, sample);
+    // An interrupted run has not reached this isochrone: neither it nor its checkpoint's history
+    // may count it as checked.
+    if (core::interrupted()) break;
     const double ep = terzaghi_pressure_error(*s, t);
     double u, ue;
     terzaghi_settlement(*s, t, u, ue);
     const double es = std::fabs(u - ue) / k.final_settlement;
-    max_p_err = std::max(max_p_err, ep);
-    max_s_err = std::max(max_s_err, es);
+    done_Tv.push_back(Tv);
+    done_p_err.push_back(ep);
+    done_s_err.push_back(es);
     ctx.log->info(
         "T_v = {:g} (t = {:.5g} s): pressure RMS error / p0 = {:.4g}; settlement {:.6g} "
         "m (exact {:.6g}), error / final = {:.4g}",
         Tv, s->time(), ep, u, ue, es);
-    // Isochrone: depth, p at the liquid points, exact p.
     std::vector<double> depth, p, pe;
     for (std::size_t q = 0; q < s->liquid().size(); ++q) {
       const double d = t.height - s->liquid().y[q];
@@ -429,14 +462,13 @@ int run_terzaghi(core::RunContext& ctx) {
       p.push_back(s->liquid().pressure[q]);
       pe.push_back(analytic::terzaghi_pressure(d, s->time(), t.height, k.cv, k.p0));
     }
-    const std::string g = fmt::format("/isochrones/{}", i);
-    ctx.result.write(g + "/depth", depth, "m", "depth below the top of the liquid points");
-    ctx.result.write(g + "/pressure", p, "Pa", "pore pressure at the liquid points");
-    ctx.result.write(g + "/pressure_exact", pe, "Pa", "Terzaghi series at the same depths");
-    ctx.result.attribute(g, "time_factor", Tv);
-    ctx.result.attribute(g, "time", s->time());
-    ctx.result.attribute(g, "pressure_rms_error_over_p0", ep);
+    isochrone(i, Tv, s->time(), ep, std::move(depth), std::move(p), std::move(pe));
   }
+  // Errors over every isochrone of the history, restarted or not.
+  const double max_p_err =
+      done_p_err.empty() ? 0.0 : *std::max_element(done_p_err.begin(), done_p_err.end());
+  const double max_s_err =
+      done_s_err.empty() ? 0.0 : *std::max_element(done_s_err.begin(), done_s_err.end());
   ctx.result.write("/series/time", time, "s", "time");
   ctx.result.write("/series/settlement", settlement, "m", "mean settlement of the top points");
   ctx.result.write("/series/settlement_exact", settlement_exact, "m",
@@ -446,14 +478,23 @@ int run_terzaghi(core::RunContext& ctx) {
   ctx.result.attribute("/series", "height", t.height);
   ctx.result.attribute("/series", "final_settlement", k.final_settlement);
   ctx.result.flush();
-  common_summary(ctx, *s, wall, ms0, ml0);
+  common_summary(ctx, *s, history, wall, ms0, ml0);
   ctx.summary.set("terzaghi.l2_err_pressure", max_p_err);
   ctx.summary.set("terzaghi.settlement_err", max_s_err);
   ctx.summary.set("terzaghi.p0", k.p0);
   ctx.summary.set("terzaghi.cv", k.cv);
   ctx.summary.set("terzaghi.cell", t.cell);
   ctx.summary.set("terzaghi.hydraulic_conductivity", k.hydraulic_conductivity);
-  finish_output(ctx, *s);
+  history.set("mass.solid0", ms0);
+  history.set("mass.liquid0", ml0);
+  history.set("series.time", time);
+  history.set("series.settlement", settlement);
+  history.set("series.settlement_exact", settlement_exact);
+  history.set("terzaghi.isochrones", done_Tv);
+  history.set("terzaghi.pressure_errors", done_p_err);
+  history.set("terzaghi.settlement_errors", done_s_err);
+  history.set("terzaghi.time_per_Tv", t.height * t.height / k.cv);
+  finish_output(ctx, *s, history);
   ctx.plot("plot_mpm.py");
   return core::exit_ok;
 }
@@ -472,12 +513,23 @@ int run_couette(core::RunContext& ctx) {
   cs.wall_velocity = c.number("loading.wall_velocity");
   cs.options = read_options(c);
   auto s = make_couette(cs);
-  maybe_restart(ctx, *s);
-  report_setup(ctx, *s);
-  const double ml0 = s->total_mass(Phase::liquid);
+  RunHistory history = restore_run(ctx, *s);
+  report_setup(ctx, *s, history);
+  const double ml0 = history.get("mass.liquid0", s->total_mass(Phase::liquid));
   const double end = c.number("run.end_time"), from = c.number("run.average_from");
   std::vector<double> vx(s->grid_nodes(), 0.0), vy(s->grid_nodes(), 0.0);
-  int samples = 0;
+  long samples = 0;
+  // A restart inside the averaging window continues its sums (check_couette_restart: the same
+  // window); a window that starts after the checkpoint starts from zero.
+  if (history.restarted() && !(s->time() < from)) {
+    history.get("couette.vx_sum", vx);
+    history.get("couette.vy_sum", vy);
+    samples = std::lround(history.get("couette.samples", 0.0));
+    if (vx.size() != static_cast<std::size_t>(s->grid_nodes()) || vy.size() != vx.size())
+      refuse_restart(
+          c, c.string("output.restart_from"),
+          fmt::format("its averaging sums have {} nodes, the grid {}", vx.size(), s->grid_nodes()));
+  }
   auto fields = field_writer(ctx);
   const double wall =
       advance(ctx, *s, end, fields.get(), static_cast<int>(c.integer("output.frames")), [&]() {
@@ -488,9 +540,19 @@ int run_couette(core::RunContext& ctx) {
         }
         ++samples;
       });
+  history.set("mass.liquid0", ml0);
+  history.set("couette.average_from", from);
+  history.set("couette.samples", static_cast<double>(samples));
+  history.set("couette.vx_sum", vx);
+  history.set("couette.vy_sum", vy);
+  if (samples == 0)
+    c.fail("run.average_from",
+           fmt::format("a time at least one step (Δt = {:.4g} s) before run.end_time = {:g} s: no "
+                       "step fell in the averaging window",
+                       s->dt(), end));
   for (int a = 0; a < s->grid_nodes(); ++a) {
-    vx[a] /= std::max(samples, 1);
-    vy[a] /= std::max(samples, 1);
+    vx[a] /= static_cast<double>(samples);
+    vy[a] /= static_cast<double>(samples);
   }
   double et, er;
   couette_error(*s, cs, vx, vy, et, er);
@@ -517,10 +579,10 @@ int run_couette(core::RunContext& ctx) {
   ctx.result.write("/profile/velocity", vt, "m/s", "ring-averaged, time-averaged grid v_θ");
   ctx.result.write("/profile/velocity_exact", vt_exact, "m/s", "A r + B / r");
   ctx.result.flush();
-  common_summary(ctx, *s, wall, 0.0, ml0);
+  common_summary(ctx, *s, history, wall, 0.0, ml0);
   ctx.summary.set("couette.l2_err_velocity", et);
   ctx.summary.set("couette.rms_radial_velocity", er);
-  finish_output(ctx, *s);
+  finish_output(ctx, *s, history);
   ctx.plot("plot_mpm.py");
   return core::exit_ok;
 }
@@ -539,10 +601,12 @@ int run_column(core::RunContext& ctx) {
   cs.gravity = c.number("loading.gravity");
   cs.options = read_options(c);
   auto s = make_elastic_column(cs);
-  maybe_restart(ctx, *s);
-  report_setup(ctx, *s);
-  const double ms0 = s->total_mass(Phase::solid);
+  RunHistory history = restore_run(ctx, *s);
+  report_setup(ctx, *s, history);
+  const double ms0 = history.get("mass.solid0", s->total_mass(Phase::solid));
   std::vector<double> time, base;
+  history.get("series.time", time);
+  history.get("series.base_stress", base);
   auto fields = field_writer(ctx);
   const double wall = advance(ctx, *s, c.number("run.end_time"), fields.get(),
                               static_cast<int>(c.integer("output.frames")), [&]() {
@@ -568,11 +632,14 @@ int run_column(core::RunContext& ctx) {
   ctx.result.write("/profile/syy", syy, "Pa", "σ_yy at the points (tension-positive)");
   ctx.result.write("/profile/syy_exact", syy_exact, "Pa", "-ρ g (H - y0)");
   ctx.result.flush();
-  common_summary(ctx, *s, wall, ms0, 0.0);
+  common_summary(ctx, *s, history, wall, ms0, 0.0);
   ctx.summary.set("column.l2_err_stress", e.vertical_stress);
   ctx.summary.set("column.l2_err_horizontal_stress", e.horizontal_stress);
   ctx.summary.set("column.base_stress", e.base_stress);
-  finish_output(ctx, *s);
+  history.set("mass.solid0", ms0);
+  history.set("series.time", time);
+  history.set("series.base_stress", base);
+  finish_output(ctx, *s, history);
   ctx.plot("plot_mpm.py");
   return core::exit_ok;
 }
@@ -641,6 +708,9 @@ void check_rheometer(const core::Case& c) {
     c.fail("geometry.outer_radius", "a value > geometry.inner_radius");
   if (!c.boolean("force_chains.enabled"))
     c.fail("force_chains.enabled", "true (the rheometer needs the skeleton)");
+  if (const auto r =
+          check_restart(c, {"run.profile_times", "run.profile_bins", "run.steady_fraction"}))
+    check_restart_end(c, *r, c.number("run.end_time"), "run.end_time");
 }
 
 RheometerSpec read_rheometer(const core::Case& c) {
@@ -681,12 +751,21 @@ int run_rheometer(core::RunContext& ctx) {
   const RheometerSpec spec = read_rheometer(c);
   Rheometer rh = make_rheometer(spec);
   Solver& s = *rh.solver;
-  maybe_restart(ctx, s);
-  report_setup(ctx, s);
+  RunHistory history = restore_run(ctx, s);
+  report_setup(ctx, s, history);
   if (spec.options.material_conductivity)
     ctx.log->info("T conducted through the nodes with κ_T = ρ_p d f4 T^½ of each point");
-  const double ms0 = s.total_mass(Phase::solid), ml0 = s.total_mass(Phase::liquid);
+  const double ms0 = history.get("mass.solid0", s.total_mass(Phase::solid));
+  const double ml0 = history.get("mass.liquid0", s.total_mass(Phase::liquid));
   std::vector<double> gamma(s.solid().size(), 0.0);
+  history.get("rheometer.shear_strain", gamma);
+  if (gamma.size() != s.solid().size())
+    refuse_restart(c, c.string("output.restart_from"),
+                   fmt::format("its shear strains have {} points, the case {}", gamma.size(),
+                               s.solid().size()));
+  // The material counts its clamped updates from its construction: add those before a restart.
+  const double clamped0 = history.get("rheometer.clamped_updates", 0.0);
+  auto clamped = [&]() { return clamped0 + static_cast<double>(rh.material->clamped_updates()); };
   const RheometerAverages a0 = rheometer_averages(s, *rh.material, gamma);
   ctx.log->info(
       "rheometer: e0 = {:g}, p'0 = {:g} Pa, u_w0 = {:g} Pa; v_θ = {:g} t up to v_max = {:g} m/s "
@@ -715,6 +794,50 @@ int run_rheometer(core::RunContext& ctx) {
   std::array<std::vector<double>, crowns> crown_gamma, crown_n, crown_rc, crown_fluid;
   RheometerProfiles at_peak;
   double tau_max = -std::numeric_limits<double>::infinity();
+  // The history a restart continues: every series (the summaries are taken over them), the
+  // running peak and the crown strains at it.
+  const std::vector<std::pair<std::string, std::vector<double>*>> series = [&]() {
+    std::vector<std::pair<std::string, std::vector<double>*>> v = {
+        {"time", &t_s},
+        {"tau", &tau_s},
+        {"sigma_G", &sg_s},
+        {"gamma", &gam_s},
+        {"gamma_dot", &rate_s},
+        {"mixture_volume", &vol_s},
+        {"pore_pressure", &pw_s},
+        {"porosity_std", &nstd_s},
+        {"fluidized_fraction", &fl_s},
+        {"temperature", &tmean_s},
+        {"dt", &dt_s},
+        {"dt_wave", &dt_wave_s},
+        {"dt_conduction", &dt_cond_s},
+        {"solid_fraction_max", &numax_s},
+        {"temperature_max", &tmax_s},
+        {"clamped_updates", &clamp_s},
+        {"pore_pressure_std", &pstd_s},
+        {"radial_velocity_rms", &vr_s},
+    };
+    for (int k = 0; k < crowns; ++k) {
+      const std::string crown = fmt::format("crown_{}.", k);
+      v.emplace_back(crown + "shear_strain", &crown_gamma[k]);
+      v.emplace_back(crown + "porosity", &crown_n[k]);
+      v.emplace_back(crown + "locus_size", &crown_rc[k]);
+      v.emplace_back(crown + "fluidized_fraction", &crown_fluid[k]);
+    }
+    return v;
+  }();
+  for (auto& [name, v] : series) history.get("rheometer.series." + name, *v);
+  tau_max = history.get("rheometer.tau_max", tau_max);
+  history.get("rheometer.peak_crown_shear_strain", at_peak.shear_strain);
+  auto record_history = [&]() {
+    for (auto& [name, v] : series) history.set("rheometer.series." + name, *v);
+    history.set("rheometer.tau_max", tau_max);
+    history.set("rheometer.peak_crown_shear_strain", at_peak.shear_strain);
+    history.set("rheometer.shear_strain", gamma);
+    history.set("rheometer.clamped_updates", clamped());
+    history.set("mass.solid0", ms0);
+    history.set("mass.liquid0", ml0);
+  };
   auto sample = [&]() {
     const RheometerAverages a = rheometer_averages(s, *rh.material, gamma);
     const RheometerProfiles cr = rheometer_profiles(s, *rh.material, spec, gamma, crowns);
@@ -743,19 +866,33 @@ int run_rheometer(core::RunContext& ctx) {
     pstd_s.push_back(a.pore_pressure_std);
     vr_s.push_back(a.radial_velocity_rms);
     dt_s.push_back(s.dt());
-    dt_wave_s.push_back(s.limits().wave);
-    dt_cond_s.push_back(s.limits().conduction);
+    dt_wave_s.push_back(history.limits(s).wave);
+    dt_cond_s.push_back(history.limits(s).conduction);
     double nu_max = 0, T_max = 0;
     for (double n : s.solid().porosity) nu_max = std::max(nu_max, 1.0 - n);
     for (double v : s.solid().temperature) T_max = std::max(T_max, v);
     numax_s.push_back(nu_max);
     tmax_s.push_back(T_max);
-    clamp_s.push_back(static_cast<double>(rh.material->clamped_updates()));
+    clamp_s.push_back(clamped());
   };
-  std::size_t next_profile = 0;
-  auto profile = [&]() {
-    const RheometerProfiles pr = rheometer_profiles(s, *rh.material, spec, gamma, bins);
-    const std::string grp = fmt::format("/profiles/{}", next_profile);
+  // Profile group k of result.h5 (kept in the history: a restarted run writes them again).
+  int profiles = 0;
+  auto arrays = [](RheometerProfiles& pr) {
+    return std::array<std::pair<const char*, std::vector<double>*>, 7>{{
+        {"radius", &pr.radius},
+        {"shear_strain", &pr.shear_strain},
+        {"velocity", &pr.velocity},
+        {"shear_stress", &pr.shear_stress},
+        {"porosity", &pr.porosity},
+        {"locus_size", &pr.locus_size},
+        {"fluidized_fraction", &pr.fluidized_fraction},
+    }};
+  };
+  auto write_profile = [&](RheometerProfiles pr, double at) {
+    const std::string grp = fmt::format("/profiles/{}", profiles);
+    const std::string h = fmt::format("rheometer.profile_{}.", profiles);
+    for (const auto& [name, v] : arrays(pr)) history.set(h + name, *v);
+    history.set(h + "time", at);
     ctx.result.write(grp + "/radius", pr.radius, "m", "bin centre radius");
     ctx.result.write(grp + "/shear_strain", pr.shear_strain, "1", "θ-averaged accumulated γ_rθ");
     ctx.result.write(grp + "/velocity", pr.velocity, "m/s", "θ-averaged solid v_θ");
@@ -764,15 +901,36 @@ int run_rheometer(core::RunContext& ctx) {
     ctx.result.write(grp + "/locus_size", pr.locus_size, "Pa", "θ-averaged r_c");
     ctx.result.write(grp + "/fluidized_fraction", pr.fluidized_fraction, "1",
                      "volume fraction with r_c below fluidization");
-    ctx.result.attribute(grp, "time", s.time());
-    const double vt = std::min(spec.max_velocity, spec.acceleration * s.time());
+    ctx.result.attribute(grp, "time", at);
+    const double vt = std::min(spec.max_velocity, spec.acceleration * at);
     ctx.result.attribute(grp, "wall_velocity", vt);
+    ++profiles;
+    history.set("rheometer.profiles", profiles);
+  };
+  for (int k = 0, n = std::lround(history.get("rheometer.profiles", 0.0)); k < n; ++k) {
+    const std::string h = fmt::format("rheometer.profile_{}.", k);
+    RheometerProfiles pr;
+    std::vector<double> at;
+    for (const auto& [name, v] : arrays(pr)) history.get(h + name, *v);
+    history.get(h + "time", at);
+    write_profile(std::move(pr), at.at(0));
+  }
+  // The profile times still ahead (a restart has taken those up to its checkpoint).
+  std::size_t next_profile = 0;
+  while (history.restarted() && next_profile < profile_times.size() &&
+         s.time() >= profile_times[next_profile] - 0.5 * s.dt())
+    ++next_profile;
+  auto profile = [&]() {
+    write_profile(rheometer_profiles(s, *rh.material, spec, gamma, bins), s.time());
     ++next_profile;
   };
   core::Progress progress(ctx.log, "simulated time", end_time);
   const auto start = std::chrono::steady_clock::now();
   int next_frame = 1;
-  sample();
+  while (history.restarted() && next_frame <= frames &&
+         s.time() >= end_time * next_frame / frames - 0.5 * s.dt())
+    ++next_frame;                      // the frames before the checkpoint are the earlier run's
+  if (!history.restarted()) sample();  // the restored series start with it
   try {
     if (fields && s.steps() == 0) fields->write(s);
     while (s.time() < end_time - 0.5 * s.dt() && !core::interrupted()) {
@@ -799,6 +957,7 @@ int run_rheometer(core::RunContext& ctx) {
   progress.finish();
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  record_history();  // as the loop left it: a restart continues from here, not from the sample
   sample();
   ctx.result.write("/series/time", t_s, "s", "time");
   ctx.result.write("/series/tau", tau_s, "Pa", "averaged shear stress τ̄ = <σ_rθ> of the solid");
@@ -857,7 +1016,7 @@ int run_rheometer(core::RunContext& ctx) {
     for (double p : pw_s) d = std::max(d, std::fabs(p - pw_s.front()));
     return d / (std::fabs(pw_s.front()) > 0 ? std::fabs(pw_s.front()) : spec.effective_pressure);
   }();
-  common_summary(ctx, s, wall, ms0, ml0);
+  common_summary(ctx, s, history, wall, ms0, ml0);
   auto& sum = ctx.summary;
   sum.set("cost.wall_s", wall);
   sum.set("peak.tau", tau_s[ipeak]);
@@ -893,7 +1052,7 @@ int run_rheometer(core::RunContext& ctx) {
   }
   sum.set("final.porosity_middle", crown_n[1].back());
   sum.set("rheometer.max_velocity", spec.max_velocity);
-  sum.set("rheometer.clamped_updates", static_cast<double>(rh.material->clamped_updates()));
+  sum.set("rheometer.clamped_updates", clamped());
   sum.set("pore_pressure.mean_final", pw_s.back());
   sum.set("rheometer.cells_r", spec.cells_r);
   sum.set("rheometer.cells_theta", spec.cells_theta);
@@ -904,7 +1063,7 @@ int run_rheometer(core::RunContext& ctx) {
       "max |Δp̄| = {:.3g} of the initial",
       tau_s[ipeak], t_s[ipeak], tau_st / m, sg_st / m, rate_st / m, fl_s.back(), nstd_s.back(),
       vmax_dev, pw_dev);
-  finish_output(ctx, s);
+  finish_output(ctx, s, history);
   ctx.plot("plot_rheometer.py");
   return core::exit_ok;
 }
