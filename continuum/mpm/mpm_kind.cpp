@@ -253,6 +253,11 @@ void check_couette(const core::Case& c) {
     c.fail("geometry.outer_radius", "a value > geometry.inner_radius");
   if (!(c.number("run.average_from") < c.number("run.end_time")))
     c.fail("run.average_from", "a time < run.end_time");
+  // The error is measured at the interior node rings (the two walls are prescribed).
+  if (c.integer("geometry.cells_r") < 2)
+    c.fail("geometry.cells_r",
+           "at least 2 (the velocity error is measured at the interior node rings; one radial "
+           "cell has none)");
   if (const auto r = check_restart(c, {"run.average_from"})) check_couette_restart(c, *r);
 }
 
@@ -708,6 +713,23 @@ void check_rheometer(const core::Case& c) {
     c.fail("geometry.outer_radius", "a value > geometry.inner_radius");
   if (!c.boolean("force_chains.enabled"))
     c.fail("force_chains.enabled", "true (the rheometer needs the skeleton)");
+  // The initial solid fraction below the packing limits of the closures, as the REV tests.
+  const auto settings = continuum::read_multi_regime_settings(c);
+  const double nu0 = 1.0 / (1.0 + c.number("initial.void_ratio"));
+  if (settings.collisional && nu0 >= model::maximum_solid_fraction(settings.collisional_parameters))
+    c.fail(
+        "initial.void_ratio",
+        fmt::format("solid fraction 1/(1+e0) = {:.6g} is at or beyond collisional."
+                    "jamming_fraction {:.6g} where g0 diverges; expected e0 > {:.6g} or a larger "
+                    "jamming fraction",
+                    nu0, settings.collisional_parameters.jamming_fraction,
+                    1.0 / settings.collisional_parameters.jamming_fraction - 1.0));
+  if (settings.liquid && nu0 >= model::maximum_mixture_solid_fraction(settings.liquid_parameters))
+    c.fail("initial.void_ratio",
+           fmt::format("solid fraction 1/(1+e0) = {:.6g} is at or beyond liquid.maximum_packing "
+                       "{:.6g} where η(ν) diverges; expected e0 > {:.6g}",
+                       nu0, settings.liquid_parameters.maximum_packing,
+                       1.0 / settings.liquid_parameters.maximum_packing - 1.0));
   if (const auto r =
           check_restart(c, {"run.profile_times", "run.profile_bins", "run.steady_fraction"}))
     check_restart_end(c, *r, c.number("run.end_time"), "run.end_time");
