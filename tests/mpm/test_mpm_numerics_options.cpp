@@ -114,8 +114,8 @@ TEST(MpmNumericsOptions, CouetteKeepsItsAnalyticErrorWithEveryCombination) {
     }
     double et, er;
     couette_error(*s, c, vx, vy, et, er);
-    std::printf("couette  %-34s RMS v_theta error / V %.3e, RMS v_r / V %.3e\n",
-                o.name().c_str(), et, er);
+    std::printf("couette  %-34s RMS v_theta error / V %.3e, RMS v_r / V %.3e\n", o.name().c_str(),
+                et, er);
     // The bounds of test_mpm_couette: no mean radial flow beyond 0.5 % of the wall speed
     // (acoustic remainder, measured 4e-4 with smoothing and 1.7e-3 without; the smoothing's cell
     // rates read back from a buffer the relaxation had overwritten drove 1.6 %), and v_θ within
