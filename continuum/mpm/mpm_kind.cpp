@@ -242,7 +242,6 @@ void check_terzaghi(const core::Case& c) {
     c.fail("geometry.cell", "a cell size that divides geometry.height");
   if (!multiple(c.number("geometry.width"), c.number("geometry.cell")))
     c.fail("geometry.width", "a multiple of geometry.cell");
-  if (const auto r = check_restart(c, {"run.isochrones"})) check_terzaghi_restart(c, *r);
 }
 
 void check_couette(const core::Case& c) {
@@ -258,7 +257,6 @@ void check_couette(const core::Case& c) {
     c.fail("geometry.cells_r",
            "at least 2 (the velocity error is measured at the interior node rings; one radial "
            "cell has none)");
-  if (const auto r = check_restart(c, {"run.average_from"})) check_couette_restart(c, *r);
 }
 
 void check_column(const core::Case& c) {
@@ -267,6 +265,19 @@ void check_column(const core::Case& c) {
     c.fail("geometry.cell", "a cell size that divides geometry.height");
   if (!multiple(c.number("geometry.width"), c.number("geometry.cell")))
     c.fail("geometry.width", "a multiple of geometry.cell");
+}
+
+// The checkpoint of output.restart_from (continuum/mpm/restart.hpp): KindEntry::check_inputs,
+// before the run directory exists (granflow check does not read it), and the run itself.
+void terzaghi_inputs(const core::Case& c) {
+  if (const auto r = check_restart(c, {"run.isochrones"})) check_terzaghi_restart(c, *r);
+}
+
+void couette_inputs(const core::Case& c) {
+  if (const auto r = check_restart(c, {"run.average_from"})) check_couette_restart(c, *r);
+}
+
+void column_inputs(const core::Case& c) {
   if (const auto r = check_restart(c, {}))
     check_restart_end(c, *r, c.number("run.end_time"), "run.end_time");
 }
@@ -347,8 +358,11 @@ void common_summary(core::RunContext& ctx, const Solver& s, const RunHistory& hi
           ml0 > 0 ? std::fabs(s.total_mass(Phase::liquid) - ml0) / ml0 : 0.0);
 }
 
-// The checkpoint with the run's history (continuum/mpm/restart.hpp).
-void finish_output(core::RunContext& ctx, const Solver& s, const RunHistory& history) {
+// After the summary: its error measures must be numbers (exit 3 naming the one that is not);
+// then the checkpoint with the run's history (continuum/mpm/restart.hpp).
+void finish_output(core::RunContext& ctx, const Solver& s, const RunHistory& history,
+                   std::initializer_list<std::string_view> error_measures) {
+  check_error_measures(ctx, s.steps(), error_measures);
   write_run_checkpoint(ctx, s, history);
 }
 
@@ -381,6 +395,7 @@ int run_terzaghi(core::RunContext& ctx) {
   t.load = c.number("loading.load");
   t.undrained_start = c.boolean("loading.undrained_start");
   t.options = read_options(c);
+  terzaghi_inputs(c);
   auto s = make_terzaghi(t);
   RunHistory history = restore_run(ctx, *s);
   report_setup(ctx, *s, history);
@@ -499,7 +514,9 @@ int run_terzaghi(core::RunContext& ctx) {
   history.set("terzaghi.pressure_errors", done_p_err);
   history.set("terzaghi.settlement_errors", done_s_err);
   history.set("terzaghi.time_per_Tv", t.height * t.height / k.cv);
-  finish_output(ctx, *s, history);
+  finish_output(ctx, *s, history,
+                {"terzaghi.l2_err_pressure", "terzaghi.settlement_err", "mass.solid_rel_change",
+                 "mass.liquid_rel_change"});
   ctx.plot("plot_mpm.py");
   return core::exit_ok;
 }
@@ -517,6 +534,7 @@ int run_couette(core::RunContext& ctx) {
   cs.bulk_modulus = c.number("liquid.bulk_modulus");
   cs.wall_velocity = c.number("loading.wall_velocity");
   cs.options = read_options(c);
+  couette_inputs(c);
   auto s = make_couette(cs);
   RunHistory history = restore_run(ctx, *s);
   report_setup(ctx, *s, history);
@@ -587,7 +605,9 @@ int run_couette(core::RunContext& ctx) {
   common_summary(ctx, *s, history, wall, 0.0, ml0);
   ctx.summary.set("couette.l2_err_velocity", et);
   ctx.summary.set("couette.rms_radial_velocity", er);
-  finish_output(ctx, *s, history);
+  finish_output(
+      ctx, *s, history,
+      {"couette.l2_err_velocity", "couette.rms_radial_velocity", "mass.liquid_rel_change"});
   ctx.plot("plot_mpm.py");
   return core::exit_ok;
 }
@@ -605,6 +625,7 @@ int run_column(core::RunContext& ctx) {
   cs.density = c.number("solid.density");
   cs.gravity = c.number("loading.gravity");
   cs.options = read_options(c);
+  column_inputs(c);
   auto s = make_elastic_column(cs);
   RunHistory history = restore_run(ctx, *s);
   report_setup(ctx, *s, history);
@@ -644,7 +665,9 @@ int run_column(core::RunContext& ctx) {
   history.set("mass.solid0", ms0);
   history.set("series.time", time);
   history.set("series.base_stress", base);
-  finish_output(ctx, *s, history);
+  finish_output(ctx, *s, history,
+                {"column.l2_err_stress", "column.l2_err_horizontal_stress", "column.base_stress",
+                 "mass.solid_rel_change"});
   ctx.plot("plot_mpm.py");
   return core::exit_ok;
 }
@@ -730,6 +753,9 @@ void check_rheometer(const core::Case& c) {
                        "{:.6g} where η(ν) diverges; expected e0 > {:.6g}",
                        nu0, settings.liquid_parameters.maximum_packing,
                        1.0 / settings.liquid_parameters.maximum_packing - 1.0));
+}
+
+void rheometer_inputs(const core::Case& c) {
   if (const auto r =
           check_restart(c, {"run.profile_times", "run.profile_bins", "run.steady_fraction"}))
     check_restart_end(c, *r, c.number("run.end_time"), "run.end_time");
@@ -771,6 +797,7 @@ RheometerSpec read_rheometer(const core::Case& c) {
 int run_rheometer(core::RunContext& ctx) {
   const core::Case& c = ctx.run_case;
   const RheometerSpec spec = read_rheometer(c);
+  rheometer_inputs(c);
   Rheometer rh = make_rheometer(spec);
   Solver& s = *rh.solver;
   RunHistory history = restore_run(ctx, s);
@@ -1085,7 +1112,9 @@ int run_rheometer(core::RunContext& ctx) {
       "max |Δp̄| = {:.3g} of the initial",
       tau_s[ipeak], t_s[ipeak], tau_st / m, sg_st / m, rate_st / m, fl_s.back(), nstd_s.back(),
       vmax_dev, pw_dev);
-  finish_output(ctx, s, history);
+  finish_output(
+      ctx, s, history,
+      {"volume.mixture_rel_change_max", "mass.solid_rel_change", "mass.liquid_rel_change"});
   ctx.plot("plot_rheometer.py");
   return core::exit_ok;
 }
@@ -1094,15 +1123,17 @@ int run_rheometer(core::RunContext& ctx) {
 
 void register_mpm_kinds(core::KindRegistry& registry) {
   registry.add({"mpm", "terzaghi", "Terzaghi consolidation, two-phase double-point MPM",
-                terzaghi_schema(), check_terzaghi, run_terzaghi, "cases/mpm/terzaghi.yaml"});
+                terzaghi_schema(), check_terzaghi, run_terzaghi, "cases/mpm/terzaghi.yaml",
+                terzaghi_inputs});
   registry.add({"mpm", "couette", "Couette flow of the liquid in an annulus (polar grid)",
-                couette_schema(), check_couette, run_couette, "cases/mpm/couette.yaml"});
+                couette_schema(), check_couette, run_couette, "cases/mpm/couette.yaml",
+                couette_inputs});
   registry.add({"mpm", "elastic_column", "elastic column under gravity, at rest", column_schema(),
-                check_column, run_column, "cases/mpm/elastic_column.yaml"});
+                check_column, run_column, "cases/mpm/elastic_column.yaml", column_inputs});
   registry.add({"mpm", "rheometer",
                 "undrained constant-volume annular rheometer with the multi-regime material",
                 rheometer_schema(), check_rheometer, run_rheometer,
-                "cases/mpm/rheometer_test1.yaml"});
+                "cases/mpm/rheometer_test1.yaml", rheometer_inputs});
 }
 
 }  // namespace granflow::mpm

@@ -250,4 +250,15 @@ void write_run_checkpoint(core::RunContext& ctx, const Solver& solver, const Run
   ctx.log->info("checkpoint written: {}", (ctx.directory / "checkpoint.h5").string());
 }
 
+void check_error_measures(const core::RunContext& ctx, long step,
+                          std::initializer_list<std::string_view> keys) {
+  for (const auto key : keys) {
+    const std::string name(key);
+    const double value = ctx.summary.contains(name) ? ctx.summary.get(name) : std::nan("");
+    if (!std::isfinite(value))
+      throw core::NumericalFailure(step, "summary", name, value,
+                                   "not finite: the run has no value for this error measure");
+  }
+}
+
 }  // namespace granflow::mpm

@@ -78,6 +78,12 @@ RunHistory restore_run(core::RunContext& ctx, Solver& solver);
 // Writes checkpoint.h5 when output.checkpoint is on: the solver, the resolved case and `history`.
 void write_run_checkpoint(core::RunContext& ctx, const Solver& solver, const RunHistory& history);
 
+// Stops (core::NumericalFailure naming the key: exit code 3) when one of the summary's `keys` is
+// not finite. summary.json leaves a NaN out as "not available" with exit code 0; an error measure
+// of an analytic check or a conservation law never is.
+void check_error_measures(const core::RunContext& ctx, long step,
+                          std::initializer_list<std::string_view> keys);
+
 // Kind rules that need the checkpoint's history (names as the kinds record them):
 // Terzaghi: run.isochrones is free; the isochrones already checked ("terzaghi.isochrones") must
 // come first in it, and the last one (× "terzaghi.time_per_Tv") must lie after the checkpoint.

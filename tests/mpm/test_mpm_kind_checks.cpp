@@ -1,13 +1,19 @@
 // Bad input of the MPM kinds that cannot give a result, through the granflow command: refused
-// with exit code 2 and one line naming the key and the bound, before anything runs.
+// with exit code 2 and one line naming the key and the bound, before anything runs. And an error
+// measure that is not a number stops the run as a numerical failure naming it (exit code 3):
+// summary.json would leave it out as "not available" with exit code 0.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "continuum/mpm/mpm_kind.hpp"
+#include "continuum/mpm/restart.hpp"
+#include "core/kind_registry.hpp"
 #include "core/process.hpp"
 #include "core/run.hpp"
 
@@ -88,4 +94,27 @@ TEST(MpmKindChecks, RheometerBeyondJammingIsRefusedNamingTheBound) {
   const Output ok = run_granflow(
       {"check", mpm_case("rheometer_ci.yaml"), "--set", "initial.void_ratio=0.562744"}, dir);
   EXPECT_EQ(ok.code, core::exit_ok) << ok.text;
+}
+
+TEST(MpmKindChecks, ErrorMeasureThatIsNotANumberIsANumericalFailure) {
+  core::KindRegistry registry;
+  mpm::register_mpm_kinds(registry);
+  const fs::path path = mpm_case("couette.yaml");
+  const auto& entry = registry.find("mpm", "couette", path.string());
+  const core::Case c = core::Case::load(path, {}, entry.schema);
+  core::RunContext ctx(c, scratch("nan_error") / "run", /*force=*/true, /*quiet=*/true);
+  ctx.summary.set("couette.rms_radial_velocity", 4e-4);
+  ctx.summary.set("couette.l2_err_velocity", 6.6e-4);
+  EXPECT_NO_THROW(mpm::check_error_measures(
+      ctx, 10, {"couette.l2_err_velocity", "couette.rms_radial_velocity"}));
+  // What one radial cell gave: 0/0 over no interior node.
+  ctx.summary.set("couette.l2_err_velocity", std::numeric_limits<double>::quiet_NaN());
+  try {
+    mpm::check_error_measures(ctx, 10, {"couette.rms_radial_velocity", "couette.l2_err_velocity"});
+    FAIL() << "a NaN error measure passed";
+  } catch (const core::NumericalFailure& e) {  // the CLI's exit code 3
+    EXPECT_EQ(e.variable, "couette.l2_err_velocity");
+    EXPECT_NE(std::string(e.what()).find("couette.l2_err_velocity = nan"), std::string::npos)
+        << e.what();
+  }
 }

@@ -137,6 +137,16 @@ TEST_F(MpmRestartCouette, UnusableCheckpointFilesAreRefusedWithTheReason) {
                  {"not a granflow MPM checkpoint (no /clock)"});
 }
 
+TEST_F(MpmRestartCouette, TheCheckpointIsReadByRunNotByCheck) {
+  // As every file a case reads (KindEntry::check_inputs): `granflow check` validates the case,
+  // the checkpoint may not exist yet.
+  const fs::path missing = dir() / "later" / "checkpoint.h5";
+  const Output r = run_granflow(
+      {"check", mpm_case("couette.yaml"), "--set", "output.restart_from=" + missing.string()},
+      dir() / "check.log");
+  EXPECT_EQ(r.code, core::exit_ok) << r.text;
+}
+
 TEST_F(MpmRestartCouette, AnotherCaseIsRefusedNamingTheFirstDifferingKey) {
   // Same point count, another annulus (was: accepted, RMS error 0.59 reported as the result).
   expect_refused(checkpoint(), "outer_radius", {"geometry.outer_radius=3.0"},
