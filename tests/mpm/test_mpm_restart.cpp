@@ -82,22 +82,23 @@ void expect_same_summary(const fs::path& a, const fs::path& b) {
   EXPECT_GT(compared, 10);
 }
 
-// A Couette checkpoint at t = 0.2 s (5 x 32 cells, 2 x 2 points per cell: 640 liquid points).
+// A Couette checkpoint at t = 0.2 s (5 x 32 cells, 2 x 2 points per cell: 640 liquid points), in a
+// directory of each test's own (ctest runs the tests of this fixture in parallel processes).
 class MpmRestartCouette : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() {
-    dir_ = new fs::path(scratch("couette"));
-    const Output r = run("couette.yaml", *dir_ / "half",
+  void SetUp() override {
+    dir_ = scratch(std::string("couette_") +
+                   ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    const Output r = run("couette.yaml", dir_ / "half",
                          {"output.checkpoint=true", "run.end_time=0.2", "run.average_from=0.1"});
     ASSERT_EQ(r.code, 0) << r.text;
   }
-  static void TearDownTestSuite() { delete dir_; }
-  static fs::path checkpoint() { return *dir_ / "half" / "checkpoint.h5"; }
-  static fs::path dir() { return *dir_; }
+  fs::path checkpoint() const { return dir_ / "half" / "checkpoint.h5"; }
+  const fs::path& dir() const { return dir_; }
 
   // A restart from `file` with `sets`: exit 2 and one line naming the key and `words`.
-  static void expect_refused(const fs::path& file, const std::string& name,
-                             std::vector<std::string> sets, const std::vector<std::string>& words) {
+  void expect_refused(const fs::path& file, const std::string& name, std::vector<std::string> sets,
+                      const std::vector<std::string>& words) const {
     sets.push_back("output.restart_from=" + file.string());
     const Output r = run("couette.yaml", dir() / name, sets);
     EXPECT_EQ(r.code, core::exit_bad_input) << name << ": " << r.text;
@@ -110,9 +111,8 @@ class MpmRestartCouette : public ::testing::Test {
   }
 
  private:
-  static fs::path* dir_;
+  fs::path dir_;
 };
-fs::path* MpmRestartCouette::dir_ = nullptr;
 
 }  // namespace
 
