@@ -32,11 +32,6 @@ core::Schema shear_schema() {
   // The continuum's material section (one description for both), with DEM-only keys added and
   // the friction made sweepable (frictional vs frictionless sweeps).
   core::Field material = continuum::material_section();
-  // The grain density from 1 kg/m^3, lighter than any granular solid: far below it the deck's
-  // masses, contact times and stresses underflow.
-  core::Field density = *material.child("particle_density");
-  density.at_least(1);
-  material.add(std::move(density));
   material.number("particle_friction", "", "interparticle friction coefficient μ_p")
       .default_value("0.5")
       .at_least(0)
@@ -571,9 +566,10 @@ int run_shear(core::RunContext& ctx) {
     if (sweep)
       for (const auto& [key, value] : c.condition()) ctx.result.attribute(group, key, value);
     if (status != 0 && core::interrupted()) {
-      ctx.log->warn("{}: stopped by {} (granflow-dem status {}); the samples written so far are "
-                    "in {}",
-                    label, core::interrupt_name(), status, (dir / "series.tsv").string());
+      ctx.log->warn(
+          "{}: stopped by {} (granflow-dem status {}); the samples written so far are "
+          "in {}",
+          label, core::interrupt_name(), status, (dir / "series.tsv").string());
       r.values.clear();
       results.push_back(r);
       return;

@@ -7,7 +7,8 @@ namespace granflow::continuum {
 core::Field material_section() {
   core::Field m("material", core::ValueType::section, "", "grain properties (shared with the DEM)");
   m.number("diameter", "m", "mean grain diameter d").required().greater_than(0);
-  m.number("particle_density", "kg/m^3", "grain density ρ_p").required().greater_than(0);
+  // From 1 kg/m^3, lighter than any granular solid: far below it stresses and time scales underflow.
+  m.number("particle_density", "kg/m^3", "grain density ρ_p").required().at_least(1);
   m.number("restitution", "", "normal coefficient of restitution e_r")
       .required()
       .greater_than(0)

@@ -123,6 +123,8 @@ TEST(MpmNumericsOptions, CouetteKeepsItsAnalyticErrorWithEveryCombination) {
     // with the smoothing (cases/mpm/couette.yaml): without it the pressure checkerboard of the
     // cell-constant rate costs 2.7e-2 on this grid with or without the other options.
     EXPECT_LT(er, 5e-3) << o.name();
-    if (o.smoothing) EXPECT_LT(et, 5e-3) << o.name();
+    if (o.smoothing) {
+      EXPECT_LT(et, 5e-3) << o.name();
+    }
   }
 }
