@@ -1,5 +1,5 @@
 // Particle-updates per second (points x steps / wall time) of the double-point MPM on the fixed
-// benchmark problems of docs/benchmarks.md, with 1 and 2 OpenMP threads:
+// benchmark problems of docs/performance.md (section MPM), with 1 and 2 OpenMP threads:
 //   MPM-1: elastic column 1 m x 4 m, h = 0.02 m, 2 x 2 points per cell (40,000 solid points),
 //          E = 1e7 Pa, ν = 0.3, ρ = 2000 kg/m³, gravity at t = 0, MUSL, FLIP, Δt = 1e-4 s, 700
 //          steps. Sanity counter: base σ_yy (about 89 kPa at step 700).
