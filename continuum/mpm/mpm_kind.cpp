@@ -284,24 +284,52 @@ void column_inputs(const core::Case& c) {
 
 // ---- running -----------------------------------------------------------------------------------
 
-// Runs the solver to `end_time`, with field frames, progress, failure translation; `sample` is
-// called after every step. Returns the solver wall time.
+// The field frames of a whole run: t = 0 and `count` frames evenly spaced up to `end_time`, the
+// end of the whole run, whichever segments advance() runs it in (Terzaghi's isochrones). After a
+// restart the frames before the checkpoint are the earlier run's: only later ones are written.
+// Several frames due within one step are written once.
+class FrameSchedule {
+ public:
+  FrameSchedule(FieldWriter* writer, double end_time, int count, const Solver& s)
+      : writer_(count > 0 ? writer : nullptr), end_(end_time), count_(count) {
+    skip_due(s);
+  }
+  void write_initial(const Solver& s) {
+    if (writer_ && s.steps() == 0 && !initial_written_) writer_->write(s);
+    initial_written_ = true;
+  }
+  void write_due(core::RunContext& ctx, const Solver& s) {
+    if (writer_ && skip_due(s)) {
+      writer_->write(s);
+      ctx.result.flush();  // result.h5 readable up to this frame even after SIGKILL
+    }
+  }
+
+ private:
+  bool skip_due(const Solver& s) {
+    bool due = false;
+    for (; next_ <= count_ && s.time() >= end_ * next_ / count_ - 0.5 * s.dt(); ++next_) due = true;
+    return due;
+  }
+  FieldWriter* writer_;
+  double end_;
+  int count_, next_ = 1;
+  bool initial_written_ = false;
+};
+
+// Runs the solver to `end_time` (one segment of the run), with its field frames, progress and
+// failure translation; `sample` is called after every step. Returns the solver wall time.
 template <class Sample>
-double advance(core::RunContext& ctx, Solver& s, double end_time, FieldWriter* fields, int frames,
+double advance(core::RunContext& ctx, Solver& s, double end_time, FrameSchedule& frames,
                Sample&& sample) {
   core::Progress progress(ctx.log, "simulated time", end_time);
   const auto start = std::chrono::steady_clock::now();
-  int next_frame = 1;
   try {
-    if (fields && s.steps() == 0) fields->write(s);
+    frames.write_initial(s);
     while (s.time() < end_time - 0.5 * s.dt() && !core::interrupted()) {
       s.step();
       sample();
-      if (fields && frames > 0 && s.time() >= end_time * next_frame / frames - 0.5 * s.dt()) {
-        fields->write(s);
-        ctx.result.flush();  // result.h5 readable up to this frame even after SIGKILL
-        ++next_frame;
-      }
+      frames.write_due(ctx, s);
       progress.update(s.time());
     }
   } catch (const SolverFailure& f) {
@@ -455,12 +483,12 @@ int run_terzaghi(core::RunContext& ctx) {
     history.get(h + "pressure_exact", pe);
     isochrone(i, done_Tv[i], at.at(0), done_p_err.at(i), depth, p, pe);
   }
+  // One frame set over the whole run, spaced on the last isochrone's time.
+  FrameSchedule schedule(fields.get(), isochrones.back() * t.height * t.height / k.cv, frames, *s);
   for (std::size_t i = done_Tv.size(); i < isochrones.size(); ++i) {
     const double Tv = isochrones[i];
     const double end = Tv * t.height * t.height / k.cv;
-    // One frame set over the whole run: frames are spaced on the last isochrone's time.
-    wall +=
-        advance(ctx, *s, end, i + 1 == isochrones.size() ? fields.get() : nullptr, frames, sample);
+    wall += advance(ctx, *s, end, schedule, sample);
     // An interrupted run has not reached this isochrone: neither it nor its checkpoint's history
     // may count it as checked.
     if (core::interrupted()) break;
@@ -554,8 +582,8 @@ int run_couette(core::RunContext& ctx) {
           fmt::format("its averaging sums have {} nodes, the grid {}", vx.size(), s->grid_nodes()));
   }
   auto fields = field_writer(ctx);
-  const double wall =
-      advance(ctx, *s, end, fields.get(), static_cast<int>(c.integer("output.frames")), [&]() {
+  FrameSchedule schedule(fields.get(), end, static_cast<int>(c.integer("output.frames")), *s);
+  const double wall = advance(ctx, *s, end, schedule, [&]() {
         if (s->time() < from) return;
         for (int a = 0; a < s->grid_nodes(); ++a) {
           vx[a] += s->nodes().vx_liquid[a];
@@ -634,8 +662,9 @@ int run_column(core::RunContext& ctx) {
   history.get("series.time", time);
   history.get("series.base_stress", base);
   auto fields = field_writer(ctx);
-  const double wall = advance(ctx, *s, c.number("run.end_time"), fields.get(),
-                              static_cast<int>(c.integer("output.frames")), [&]() {
+  FrameSchedule schedule(fields.get(), c.number("run.end_time"),
+                         static_cast<int>(c.integer("output.frames")), *s);
+  const double wall = advance(ctx, *s, c.number("run.end_time"), schedule, [&]() {
                                 if (s->steps() % 10 != 0) return;
                                 time.push_back(s->time());
                                 base.push_back(column_error(*s, cs).base_stress);
@@ -975,13 +1004,10 @@ int run_rheometer(core::RunContext& ctx) {
   };
   core::Progress progress(ctx.log, "simulated time", end_time);
   const auto start = std::chrono::steady_clock::now();
-  int next_frame = 1;
-  while (history.restarted() && next_frame <= frames &&
-         s.time() >= end_time * next_frame / frames - 0.5 * s.dt())
-    ++next_frame;                      // the frames before the checkpoint are the earlier run's
+  FrameSchedule schedule(fields.get(), end_time, frames, s);
   if (!history.restarted()) sample();  // the restored series start with it
   try {
-    if (fields && s.steps() == 0) fields->write(s);
+    schedule.write_initial(s);
     while (s.time() < end_time - 0.5 * s.dt() && !core::interrupted()) {
       s.step();
       accumulate_shear_strain(s, gamma);
@@ -989,11 +1015,7 @@ int run_rheometer(core::RunContext& ctx) {
       while (next_profile < profile_times.size() &&
              s.time() >= profile_times[next_profile] - 0.5 * s.dt())
         profile();
-      if (fields && frames > 0 && s.time() >= end_time * next_frame / frames - 0.5 * s.dt()) {
-        fields->write(s);
-        ctx.result.flush();  // result.h5 readable up to this frame even after SIGKILL
-        ++next_frame;
-      }
+      schedule.write_due(ctx, s);
       progress.update(s.time());
     }
   } catch (const SolverFailure& f) {

@@ -1,8 +1,10 @@
 // The `mpm` case kind end to end: the case files of cases/mpm/ validate, run into a run directory
 // and report the summary keys with the accuracy of the solver tests; bad input names
 // the key.
+#include <H5Cpp.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "continuum/mpm/mpm_kind.hpp"
@@ -13,7 +15,10 @@
 using namespace granflow;
 
 namespace {
-core::Summary run_case(const std::string& file, const std::vector<std::string>& overrides = {}) {
+// Runs cases/mpm/FILE into test_scratch/kind_FILE<tag> (tests that ctest may run at once on one
+// case give different tags).
+core::Summary run_case(const std::string& file, const std::vector<std::string>& overrides = {},
+                       const std::string& tag = "") {
   core::KindRegistry registry;
   mpm::register_mpm_kinds(registry);
   const auto path = std::filesystem::path(GRANFLOW_SOURCE_DIR) / "cases" / "mpm" / file;
@@ -23,7 +28,8 @@ core::Summary run_case(const std::string& file, const std::vector<std::string>& 
   all.push_back("numerics.threads=1");
   const core::Case c = core::Case::load(path, all, entry.schema);
   entry.check(c);
-  const auto dir = std::filesystem::path(GRANFLOW_BINARY_DIR) / "test_scratch" / ("kind_" + file);
+  const auto dir =
+      std::filesystem::path(GRANFLOW_BINARY_DIR) / "test_scratch" / ("kind_" + file + tag);
   core::RunContext ctx(c, dir, /*force=*/true, /*quiet=*/true);
   EXPECT_EQ(entry.run(ctx), core::exit_ok);
   ctx.finish();
@@ -93,4 +99,27 @@ TEST(MpmKind, FlipAndPicRelaxationTimeAreExclusive) {
     EXPECT_NE(std::string(e.what()).find("numerics.pic_relaxation_time"), std::string::npos)
         << e.what();
   }
+}
+
+TEST(MpmKind, TerzaghiFieldFramesSpanTheWholeRunFromTimeZero) {
+  // Three isochrones (T_v 0.05, 0.2, 0.5) run as three segments; the 10 frames are spaced on the
+  // last isochrone's time t_end over the whole run, plus t = 0. (They were written in the last
+  // segment only: no t = 0 frame, none before 0.2 t_end, and frames one step apart at its start.)
+  run_case("terzaghi.yaml", {"output.frames=10"}, "_frames");
+  const auto dir = std::filesystem::path(GRANFLOW_BINARY_DIR) / "test_scratch" /
+                   "kind_terzaghi.yaml_frames" / "fields";
+  std::vector<double> times;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().extension() != ".h5") continue;
+    H5::H5File file(entry.path().string(), H5F_ACC_RDONLY);
+    double t = 0;
+    file.openGroup("/").openAttribute("time").read(H5::PredType::NATIVE_DOUBLE, &t);
+    times.push_back(t);
+  }
+  std::sort(times.begin(), times.end());
+  ASSERT_EQ(times.size(), 11u);
+  EXPECT_EQ(times.front(), 0.0);
+  const double t_end = times.back();
+  for (std::size_t k = 1; k < times.size(); ++k)  // each within a time step of k t_end / 10
+    EXPECT_NEAR(times[k], t_end * static_cast<double>(k) / 10, 0.02 * t_end) << k;
 }
