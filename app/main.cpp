@@ -224,17 +224,27 @@ int run_main(int argc, char** argv) {
     const fs::path dir =
         out_dir.empty() ? fs::path("runs") / (fs::path(case_file).stem().string() + "_convergence")
                         : fs::path(out_dir);
-    if (fs::exists(dir)) {
-      if (!force) {
-        std::cerr << "error: " << dir.string()
-                  << ": the study directory exists; choose --out DIR or pass --force\n";
-        return core::exit_bad_input;
+    // The study directory is granflow's like a run directory: --force replaces only one with
+    // granflow's marker (force_refusal), and a new one gets the study marker.
+    try {
+      if (fs::exists(dir)) {
+        if (!force) {
+          std::cerr << "error: " << dir.string()
+                    << ": the study directory exists; choose --out DIR or pass --force\n";
+          return core::exit_bad_input;
+        }
+        if (const std::string why = core::force_refusal(dir); !why.empty()) {
+          std::cerr << "error: " << dir.string() << ": " << why << "\n";
+          return core::exit_bad_input;
+        }
+        fs::remove_all(dir);
       }
-      if (const std::string why = core::protected_path(dir); !why.empty()) {
-        std::cerr << "error: " << dir.string() << ": " << why << "\n";
-        return core::exit_bad_input;
-      }
-      fs::remove_all(dir);
+      fs::create_directories(dir);
+      core::write_text_file(dir / core::study_marker,
+                            "granflow study convergence " + case_file + "\n");
+    } catch (const std::exception& e) {  // filesystem_error and IoError name the path and reason
+      std::cerr << "error: " << e.what() << "\n";
+      return core::exit_io;
     }
     std::vector<std::string> command = {
         core::python_interpreter(),

@@ -263,6 +263,21 @@ TEST(Safety, ForceRefusesDotDotDotTheSourceTreeHomeAndUnmarkedDirectories) {
   fs::remove_all(top);
 }
 
+TEST(Safety, StudyConvergenceForceReplacesOnlyAStudyDirectoryGranflowMade) {
+  // `granflow study convergence --out DIR --force` removed any existing DIR that was not
+  // protected; it now needs granflow's marker there, like a run directory.
+  const fs::path dir = scratch("study_force");
+  fs::create_directories(dir / "mydata");
+  std::ofstream(dir / "mydata" / "thesis.tex") << "keep\n";
+  const auto o = granflow_run({"study", "convergence",
+                               (source / "cases/mpm/rheometer_ci.yaml").string(), "--out",
+                               (dir / "mydata").string(), "--force"});
+  EXPECT_EQ(o.code, granflow::core::exit_bad_input) << o.text;
+  EXPECT_NE(o.text.find("marker"), std::string::npos) << o.text;
+  EXPECT_TRUE(fs::exists(dir / "mydata" / "thesis.tex"));
+  fs::remove_all(dir);
+}
+
 TEST(Safety, ForceReplacesARunDirectoryGranflowCreated) {
   const fs::path dir = scratch("replace");
   const fs::path out = dir / "runs" / "new" / "run";  // parents created
