@@ -269,9 +269,9 @@ TEST(Safety, StudyConvergenceForceReplacesOnlyAStudyDirectoryGranflowMade) {
   const fs::path dir = scratch("study_force");
   fs::create_directories(dir / "mydata");
   std::ofstream(dir / "mydata" / "thesis.tex") << "keep\n";
-  const auto o = granflow_run({"study", "convergence",
-                               (source / "cases/mpm/rheometer_ci.yaml").string(), "--out",
-                               (dir / "mydata").string(), "--force"});
+  const auto o =
+      granflow_run({"study", "convergence", (source / "cases/mpm/rheometer_ci.yaml").string(),
+                    "--out", (dir / "mydata").string(), "--force"});
   EXPECT_EQ(o.code, granflow::core::exit_bad_input) << o.text;
   EXPECT_NE(o.text.find("marker"), std::string::npos) << o.text;
   EXPECT_TRUE(fs::exists(dir / "mydata" / "thesis.tex"));
