@@ -48,11 +48,26 @@ int lines(const std::string& text) {
   return n;
 }
 
-// A tmpfs of `kib` KiB at `dir` (read-only when asked); false when this process may not mount.
-bool mount_tmpfs(const fs::path& dir, int kib, bool read_only = false) {
-  const std::string options = "size=" + std::to_string(kib) + "k";
-  return ::mount("tmpfs", dir.c_str(), "tmpfs", read_only ? MS_RDONLY : 0, options.c_str()) == 0;
-}
+// A tmpfs of `kib` KiB at `dir` (read-only when asked), unmounted when the test ends, also when an
+// assertion stops it early; mounted() is false when this process may not mount (not root).
+class Tmpfs {
+ public:
+  Tmpfs(const fs::path& dir, int kib, bool read_only = false) : dir_(dir) {
+    const std::string options = "size=" + std::to_string(kib) + "k";
+    mounted_ =
+        ::mount("tmpfs", dir.c_str(), "tmpfs", read_only ? MS_RDONLY : 0, options.c_str()) == 0;
+  }
+  ~Tmpfs() { unmount(); }
+  void unmount() {
+    if (mounted_) ::umount2(dir_.c_str(), MNT_DETACH);
+    mounted_ = false;
+  }
+  bool mounted() const { return mounted_; }
+
+ private:
+  fs::path dir_;
+  bool mounted_ = false;
+};
 
 // Fills the file system of `dir` until about `free_kib` KiB are left.
 void fill_to(const fs::path& dir, int free_kib) {
@@ -128,11 +143,11 @@ TEST(IoFailures, ReadOnlyOutIsOneLineNamingTheReason) {
   const fs::path dir = scratch("ro");
   const fs::path mount_point = dir / "ro";
   fs::create_directories(mount_point);
-  if (!mount_tmpfs(mount_point, 64, /*read_only=*/true))
-    GTEST_SKIP() << "cannot mount a tmpfs here (needs root; CI runs as root)";
+  Tmpfs tmpfs(mount_point, 64, /*read_only=*/true);
+  if (!tmpfs.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here (needs root; CI runs as root)";
   const GranflowRun r =
       run_granflow({"run", rev_case.string(), "--out", (mount_point / "run").string()}, dir);
-  ::umount(mount_point.c_str());
+  tmpfs.unmount();
   EXPECT_EQ(r.code, granflow::core::exit_bad_input) << r.output;
   EXPECT_EQ(lines(r.output), 1) << r.output;
   EXPECT_NE(r.output.find("Read-only file system"), std::string::npos) << r.output;
@@ -147,7 +162,8 @@ TEST(IoFailures, AFullDiskIsNeverAFinishedRun) {
   const fs::path dir = scratch("full");
   const fs::path mount_point = dir / "small";
   fs::create_directories(mount_point);
-  if (!mount_tmpfs(mount_point, 300)) GTEST_SKIP() << "cannot mount a tmpfs here (needs root)";
+  Tmpfs tmpfs(mount_point, 300);
+  if (!tmpfs.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here (needs root)";
   int refused = 0;
   for (const int free_kib : {0, 4, 8, 16, 24, 32, 40, 48, 64}) {
     fill_to(mount_point, free_kib);
@@ -170,7 +186,7 @@ TEST(IoFailures, AFullDiskIsNeverAFinishedRun) {
     fs::remove_all(run, ignored);
     fs::remove(mount_point / "filler", ignored);
   }
-  ::umount(mount_point.c_str());
+  tmpfs.unmount();
   EXPECT_GE(refused, 3);  // with 0-8 KiB free nothing fits: those must be refusals
   fs::remove_all(dir);
 }
