@@ -16,39 +16,18 @@
 #include "core/kind_registry.hpp"
 #include "core/process.hpp"
 #include "core/run.hpp"
+#include "tests/mpm/mpm_cli.hpp"
 
 namespace fs = std::filesystem;
 using namespace granflow;
 
 namespace {
 
-struct Output {
-  int code;
-  std::string text;
-};
+using test::mpm_case;
+using test::Output;
+using test::run_granflow;
 
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(GRANFLOW_BINARY_DIR) / "test_scratch" / ("mpm_checks_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-Output run_granflow(const std::vector<std::string>& args, const fs::path& dir) {
-  std::vector<std::string> argv = {std::string(GRANFLOW_BINARY_DIR) + "/app/granflow"};
-  argv.insert(argv.end(), args.begin(), args.end());
-  core::ProcessOptions options;
-  options.output = dir / "output.txt";
-  const core::ProcessResult r = core::run_process(argv, options);
-  std::ifstream in(options.output);
-  std::stringstream text;
-  text << in.rdbuf();
-  return {r.status, text.str()};
-}
-
-std::string mpm_case(const std::string& file) {
-  return (fs::path(GRANFLOW_SOURCE_DIR) / "cases" / "mpm" / file).string();
-}
+fs::path scratch(const std::string& name) { return test::mpm_scratch("mpm_checks_" + name); }
 
 bool one_line(const std::string& text) {
   return !text.empty() && text.find('\n') == text.size() - 1;
@@ -63,14 +42,14 @@ TEST(MpmKindChecks, CouetteWithOneRadialCellIsRefusedNamingTheMinimum) {
   const Output r =
       run_granflow({"run", mpm_case("couette.yaml"), "--set", "geometry.cells_r=1", "--set",
                     "geometry.cells_theta=8", "--out", (dir / "run").string()},
-                   dir);
+                   dir / "output.txt");
   EXPECT_EQ(r.code, core::exit_bad_input) << r.text;
   EXPECT_NE(r.text.find("geometry.cells_r: at least 2"), std::string::npos) << r.text;
   EXPECT_TRUE(one_line(r.text)) << r.text;
   EXPECT_FALSE(fs::exists(dir / "run")) << "refused before the run directory is created";
   // Two radial cells: one interior ring, a finite error.
-  const Output ok =
-      run_granflow({"check", mpm_case("couette.yaml"), "--set", "geometry.cells_r=2"}, dir);
+  const Output ok = run_granflow({"check", mpm_case("couette.yaml"), "--set", "geometry.cells_r=2"},
+                                 dir / "output.txt");
   EXPECT_EQ(ok.code, core::exit_ok) << ok.text;
 }
 
@@ -82,7 +61,7 @@ TEST(MpmKindChecks, RheometerBeyondJammingIsRefusedNamingTheBound) {
       run_granflow({"run", mpm_case("rheometer_ci.yaml"), "--set", "initial.void_ratio=0.5",
                     "--set", "run.end_time=0.002", "--set", "run.profile_times=[0.001, 0.002]",
                     "--out", (dir / "run").string()},
-                   dir);
+                   dir / "output.txt");
   EXPECT_EQ(r.code, core::exit_bad_input) << r.text;
   EXPECT_NE(r.text.find("initial.void_ratio: solid fraction 1/(1+e0) = 0.666667"),
             std::string::npos)
@@ -91,8 +70,9 @@ TEST(MpmKindChecks, RheometerBeyondJammingIsRefusedNamingTheBound) {
   EXPECT_NE(r.text.find("e0 > 0.5625"), std::string::npos) << r.text;
   EXPECT_TRUE(one_line(r.text)) << r.text;
   // Just below jamming (ν0 = 0.6399) stays allowed.
-  const Output ok = run_granflow(
-      {"check", mpm_case("rheometer_ci.yaml"), "--set", "initial.void_ratio=0.562744"}, dir);
+  const Output ok =
+      run_granflow({"check", mpm_case("rheometer_ci.yaml"), "--set", "initial.void_ratio=0.562744"},
+                   dir / "output.txt");
   EXPECT_EQ(ok.code, core::exit_ok) << ok.text;
 }
 

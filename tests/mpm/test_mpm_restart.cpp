@@ -16,39 +16,18 @@
 
 #include "core/process.hpp"
 #include "core/run.hpp"
+#include "tests/mpm/mpm_cli.hpp"
 
 namespace fs = std::filesystem;
 using namespace granflow;
 
 namespace {
 
-struct Output {
-  int code;
-  std::string text;
-};
+using test::mpm_case;
+using test::Output;
+using test::run_granflow;
 
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(GRANFLOW_BINARY_DIR) / "test_scratch" / ("mpm_restart_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-Output run_granflow(const std::vector<std::string>& args, const fs::path& log) {
-  std::vector<std::string> argv = {std::string(GRANFLOW_BINARY_DIR) + "/app/granflow"};
-  argv.insert(argv.end(), args.begin(), args.end());
-  core::ProcessOptions options;
-  options.output = log;
-  const core::ProcessResult r = core::run_process(argv, options);
-  std::ifstream in(log);
-  std::stringstream text;
-  text << in.rdbuf();
-  return {r.status, text.str()};
-}
-
-std::string mpm_case(const std::string& file) {
-  return (fs::path(GRANFLOW_SOURCE_DIR) / "cases" / "mpm" / file).string();
-}
+fs::path scratch(const std::string& name) { return test::mpm_scratch("mpm_restart_" + name); }
 
 // `granflow run CASE --quiet --out DIR --set numerics.threads=1 --set output.frames=0 --set ...`
 Output run(const std::string& file, const fs::path& out, std::vector<std::string> sets) {
