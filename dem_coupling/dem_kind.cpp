@@ -561,7 +561,7 @@ int run_shear(core::RunContext& ctx) {
     const std::string group = fmt::format("/conditions/{}", n);  // also for a single point
     PointResult r = analyse_point(ctx, dir, group, p, deck);
     r.wall = wall;
-    r.steps = double(deck.total_steps + p.compression_steps);
+    r.steps = double(deck.total_steps + deck.compression_steps);
     r.particle_steps_per_s = r.particles * r.steps / wall;
     if (sweep)
       for (const auto& [key, value] : c.condition()) ctx.result.attribute(group, key, value);

@@ -234,6 +234,11 @@ ShearDeck shear_deck_timing(const ShearDeckParams& p) {
                                      double(out.sample_every))) *
                 out.sample_every
           : out.sample_every;
+  // Dry decks average the virial over sample intervals ending on multiples of sample_every
+  // (fix ave/time, make_shear_deck): the shear must start on one.
+  out.compression_steps = p.wet.enabled ? p.compression_steps
+                                        : (p.compression_steps + out.sample_every - 1) /
+                                              out.sample_every * out.sample_every;
   const long samples_per_update = out.servo_every / out.sample_every;
   if (p.wet.enabled && p.constant_pressure && samples_per_update >= 2)
     out.servo_move_every =
@@ -314,6 +319,25 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
   }
   out.box_length = std::cbrt(out.solid_volume / p.solid_fraction);
 
+  // Dry decks: the contact virial averaged over every step of each sample interval,
+  //   <P^vir>_k = (1/n) sum_{j=1..n} P^vir(t_{k-1} + j dt),  n = gf_sample_every,
+  // by `fix ave/time 1 n n` (LAMMPS/LIGGGHTS fix ave/time: Nevery 1, Nrepeat n, Nfreq n), which
+  // granflow-dem reads instead of the instant: in collisional flows an instant either catches a
+  // stiff contact or not (samples jumping 100x), and a servo fed such instants holds the median,
+  // not the mean. ave/time ends its windows on multiples of n, so the compression is rounded up
+  // to whole sample intervals (shear_deck_timing). Immersed decks keep instants: the
+  // stress split of fix fluid/le is formed on the sampled steps only and must add up with them.
+  const long compression = out.compression_steps;
+  const std::string stress_average =
+      p.wet.enabled ? std::string()
+                    : fmt::format(
+                          "# contact virial averaged over every step of each sample interval "
+                          "(read by granflow-dem)\n"
+                          "fix             gf_stress all ave/time 1 {0} {0} c_gf_virial[1] "
+                          "c_gf_virial[2] c_gf_virial[3] c_gf_virial[4] c_gf_virial[5] "
+                          "c_gf_virial[6]\n",
+                          out.sample_every);
+
   const double skin = 0.2 * out.mean_diameter;
   const double top_speed = p.shear_rate * out.box_length;
   out.deck = fmt::format(
@@ -368,7 +392,7 @@ unfix           gf_compress
 velocity        all ramp vx 0 {vtop:.17g} y 0 {l1:.17g} units box sum yes
 fix             gf_shear all deform 1 xy erate {gd:.17g} remap v
 thermo          0                            # thermo (and the virial) at the end of each sampled chunk
-)",
+{stress_average})",
       fmt::arg(
           "dt_rule",
           m.contact_law == ContactLaw::hooke
@@ -386,8 +410,8 @@ thermo          0                            # thermo (and the virial) at the en
       fmt::arg("contact", contact_law_commands(m, out.mean_diameter)), fmt::arg("dt", out.dt),
       fmt::arg("thermo_comp", std::max(1L, p.compression_steps / 5)),
       fmt::arg("phi", p.solid_fraction), fmt::arg("l0", out.initial_box_length),
-      fmt::arg("l1", out.box_length), fmt::arg("ncomp", p.compression_steps),
-      fmt::arg("vtop", top_speed));
+      fmt::arg("l1", out.box_length), fmt::arg("ncomp", compression),
+      fmt::arg("stress_average", stress_average), fmt::arg("vtop", top_speed));
   out.deck += fluid_fix;
   return out;
 }

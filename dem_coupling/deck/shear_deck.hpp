@@ -97,6 +97,9 @@ struct ShearDeck {
   // suspension's σ_yy responds at once to the dilation rate); 2/5 of the interval in whole
   // samples (at least one moving and one held). 0: moves over the whole interval (dry).
   long servo_move_every = 0;
+  // Steps of the isotropic compression: dem.compression_steps, rounded up to whole sample
+  // intervals in dry decks (their fix ave/time windows end on multiples of sample_every).
+  long compression_steps = 0;
   double initial_box_length = 0, box_length = 0;  // lattice box, compressed box (m)
   double solid_volume = 0;                        // m^3
 };

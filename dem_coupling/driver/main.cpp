@@ -9,11 +9,15 @@
 // 2. reads DECK (sample preparation; defines the gf_* parameters and fix gf_shear);
 // 3. runs the shear stage in chunks of gf_sample_every steps (`run N start S stop E pre no`,
 //    so fix deform's tilt stays continuous inside a segment) and after each chunk samples
-//    the atom arrays through the instance (lammps_extract_atom, compute gf_virial, the pair's
-//    neighbour list), reduces the sums over ranks (one MPI_Allreduce) and rank 0 appends a row
-//    to the series file (flushed, so a run stopped by an error keeps what it wrote);
+//    the atom arrays through the instance (lammps_extract_atom, the pair's neighbour list) and
+//    the contact virial, reduces the sums over ranks (one MPI_Allreduce) and rank 0 appends a
+//    row to the series file (flushed, so a run stopped by an error keeps what it wrote). The
+//    virial is the mean over every step of the chunk when the deck defines fix gf_stress
+//    (ave/time 1 n n over compute gf_virial; dry decks), else compute gf_virial at the sample's
+//    step; the kinetic part, T, φ and Z are taken at the sample's step;
 // 4. under constant normal stress, every gf_servo_every steps rescales the box height with
-//    NormalStressServo: fix gf_shear is redefined with `y final` for the next segment. With
+//    NormalStressServo (dry: with the carry of the clipped demand, so that it holds the mean
+//    σ_yy): fix gf_shear is redefined with `y final` for the next segment. With
 //    gf_servo_move_every = M > 0 (immersed decks) the height moves during the first M steps of
 //    the segment and is then held (fix gf_shear back to `xy erate` only), and the servo averages
 //    σ_yy over the held part only: in a viscous suspension σ_yy responds at once to the dilation
@@ -42,6 +46,7 @@
 #include "lammps.h"
 #include "library.h"
 #include "lmptype.h"
+#include "modify.h"
 #include "neigh_list.h"
 #include "pair.h"
 #include "update.h"
@@ -104,6 +109,15 @@ double deck_variable(void* handle, const char* name, int rank) {
   double* value = static_cast<double*>(p);
   const double v = *value;
   std::free(value);  // equal-style values are malloc'ed by library.cpp
+  return v;
+}
+
+// Entry k (0-based) of fix gf_stress's global vector: the interval-mean contact virial P^vir_k
+// (xx yy zz xy xz yz). The value is malloc'ed by library.cpp.
+double stress_average_entry(void* handle, int k) {
+  double* value = static_cast<double*>(lammps_extract_fix(handle, "gf_stress", 0, 1, k, 0));
+  const double v = *value;
+  std::free(value);
   return v;
 }
 
@@ -239,7 +253,8 @@ int main(int argc, char** argv) {
   if (constant_pressure)
     servo.emplace(deck_variable(handle, "gf_normal_stress", rank),
                   deck_variable(handle, "gf_servo_gain", rank),
-                  deck_variable(handle, "gf_servo_max_strain", rank));
+                  deck_variable(handle, "gf_servo_max_strain", rank),
+                  wet ? 0.0 : 50.0);  // carry of the clipped demand: dry only (the servo's header)
   if (sample_every < 1 || total_steps < sample_every || (servo && servo_every % sample_every))
     usage_error(rank,
                 "deck: need 1 <= gf_sample_every <= gf_total_steps and gf_servo_every a "
@@ -250,6 +265,14 @@ int main(int argc, char** argv) {
                 "deck: gf_servo_move_every must be 0 or a multiple of gf_sample_every below "
                 "gf_servo_every");
   if (lmp->force->pair == nullptr) usage_error(rank, "deck defines no pair style");
+  // Dry decks define `fix gf_stress all ave/time 1 n n c_gf_virial[1..6]` (n = gf_sample_every):
+  // the contact virial averaged over every step of the interval that ends at each sample, read
+  // instead of the instant (and so also by the servo). Its windows end on multiples of n.
+  const bool averaged_virial = lmp->modify->find_fix("gf_stress") >= 0;
+  if (averaged_virial && lmp->update->ntimestep % sample_every != 0)
+    usage_error(rank,
+                "deck: fix gf_stress (ave/time) needs the shear to start on a multiple of "
+                "gf_sample_every");
 
   std::FILE* series = nullptr;
   std::FILE* profile = nullptr;
@@ -323,11 +346,15 @@ int main(int argc, char** argv) {
         }
         MPI_Allreduce(local.data(), global.data(), local.size(), MPI_DOUBLE, MPI_SUM,
                       MPI_COMM_WORLD);
-        const auto* virial =
-            static_cast<double*>(lammps_extract_compute(handle, "gf_virial", 0, 1));
-        if (virial == nullptr) usage_error(rank, "deck defines no compute gf_virial (pressure)");
-        const std::array<double, 6> virial_stress{virial[0], virial[1], virial[2],
-                                                  virial[3], virial[4], virial[5]};
+        std::array<double, 6> virial_stress{};
+        if (averaged_virial) {
+          for (int k = 0; k < 6; ++k) virial_stress[k] = stress_average_entry(handle, k);
+        } else {
+          const auto* virial =
+              static_cast<double*>(lammps_extract_compute(handle, "gf_virial", 0, 1));
+          if (virial == nullptr) usage_error(rank, "deck defines no compute gf_virial (pressure)");
+          for (int k = 0; k < 6; ++k) virial_stress[k] = virial[k];
+        }
         const granflow::dem::BoxState box{domain.xprd, domain.yprd, domain.zprd, domain.xy};
         ShearSample s =
             granflow::dem::finalize_sample(global, virial_stress, box, frame, particle_density);
