@@ -90,12 +90,65 @@ double integrated_autocorrelation_time(std::span<const double> series, double wi
   return std::max(tau, 1.0 / double(n));
 }
 
+MeanEstimate correlated_mean(std::span<const double> series) {
+  const std::size_t n = series.size();
+  const double tau = integrated_autocorrelation_time(series);
+  if (n < 8 || !std::isfinite(tau)) return batch_means(series, 20);
+  // b = max(n / 20, ceil(5 tau_int)), B = n / b within [4, 20]
+  const auto wanted = std::size_t(std::ceil(5.0 * tau));
+  const std::size_t batches = std::clamp<std::size_t>(n / std::max<std::size_t>(wanted, 1), 4, 20);
+  MeanEstimate e = batch_means(series, batches);
+  double var = 0.0;
+  for (double x : series) var += (x - e.mean) * (x - e.mean);
+  var /= double(n - 1);
+  const double tau_se = std::sqrt(tau * var / double(n));
+  if (!(e.standard_error >= tau_se)) {
+    e.standard_error = tau_se;
+    e.ci95 = student_t_975(e.batches - 1) * tau_se;
+  }
+  return e;
+}
+
+DriftTest drift_test(std::span<const double> series) {
+  DriftTest d;
+  const std::size_t half = series.size() / 2;
+  if (half < 8) {
+    d.z = std::numeric_limits<double>::quiet_NaN();
+    return d;
+  }
+  // Errors of the halves from the residuals about the least-squares line x = c0 + c1 t: a trend
+  // would otherwise inflate the halves' own errors (batch means spread by it, tau_int lengthened)
+  // and hide itself; without a trend the residuals are the fluctuations.
+  const std::size_t n = series.size();
+  const double tm = 0.5 * double(n - 1), xm = mean_of(series);
+  double stt = 0.0, stx = 0.0;
+  for (std::size_t t = 0; t < n; ++t) {
+    stt += (double(t) - tm) * (double(t) - tm);
+    stx += (double(t) - tm) * (series[t] - xm);
+  }
+  const double slope = stx / stt;
+  std::vector<double> residual(n);
+  for (std::size_t t = 0; t < n; ++t) residual[t] = series[t] - xm - slope * (double(t) - tm);
+  // the middle sample of an odd count is left out, so the halves have equal length
+  d.first_half = mean_of(series.first(half));
+  d.second_half = mean_of(series.last(half));
+  const double se =
+      std::hypot(correlated_mean(std::span<const double>(residual).first(half)).standard_error,
+                 correlated_mean(std::span<const double>(residual).last(half)).standard_error);
+  const MeanEstimate a{d.first_half}, b{d.second_half};
+  d.z = se > 0.0           ? (b.mean - a.mean) / se
+        : b.mean == a.mean ? 0.0
+                           : std::copysign(std::numeric_limits<double>::max(),
+                                           b.mean - a.mean);  // finite: summary.json
+  return d;
+}
+
 SteadyEstimate steady_state(std::span<const double> series, std::size_t mser_batch,
                             std::size_t batches) {
   SteadyEstimate s;
   s.start = mser_truncation(series, mser_batch);
   const auto steady = series.subspan(s.start);
-  s.mean = batch_means(steady, batches);
+  s.mean = batches == 0 ? correlated_mean(steady) : batch_means(steady, batches);
   s.tau_int = integrated_autocorrelation_time(steady);
   return s;
 }

@@ -10,6 +10,20 @@
 //   - Integrated autocorrelation time tau_int = 1 + 2 sum_t rho(t) with Sokal's automatic window
 //     (the sum stops at the first W >= c tau_int(W), c = 5; Sokal 1997), so that
 //     Var(mean) ~= tau_int Var(x) / n.
+//   - Correlated standard error (correlated_mean): batch means whose batch size follows tau_int,
+//     b = max(n / 20, 5 tau_int) (batch means underestimate Var(mean) by ~tau_int / (2 b) for an
+//     AR(1) series, so b >= 5 tau_int keeps that below 10 %; Flegal & Jones 2010 on batch sizes
+//     that grow with the correlation), at least 4 batches, and the reported standard error is the
+//     larger of that and the autocorrelation estimate sqrt(tau_int Var(x) / n). Only the
+//     sampling noise of one run is in it: neither the bias of a transient left in the window nor
+//     the sample-to-sample (seed) scatter.
+//   - Drift test (drift_test): the window is cut in halves; z = (m_2 - m_1) / sqrt(se_1^2 + se_2^2)
+//     with correlated_mean errors of the halves of the residuals about the window's least-squares
+//     line (a trend would inflate the halves' own errors and hide itself). A stationary series
+//     gives |z| > 3 with probability ~0.3 % (normal) to ~1 % (Student t of the few batches per
+//     half); a linear trend whose change over the window is 12 standard errors of the mean of the
+//     whole window gives E[z] = 3 (halves differ by half the change; their combined error is twice
+//     the window's), 24 gives |z| > 3 in > 99 % of cases.
 #pragma once
 
 #include <cstddef>
@@ -39,13 +53,26 @@ double integrated_autocorrelation_time(std::span<const double> series, double wi
 // Stegun 26.7.5; better than 1e-3 relative for dof >= 5).
 double student_t_975(std::size_t dof);
 
+// Mean with a standard error that accounts for correlation (see the header): batches of
+// max(n / 20, 5 tau_int) samples (at least 4 batches), standard error the larger of the batch-means
+// and the tau_int estimates; ci95 from Student t with batches - 1 degrees of freedom.
+MeanEstimate correlated_mean(std::span<const double> series);
+
+struct DriftTest {
+  double first_half = 0.0, second_half = 0.0;  // means of the two halves
+  double z = 0.0;  // (second - first) / combined standard error; NaN if < 16 samples
+};
+DriftTest drift_test(std::span<const double> series);
+
 struct SteadyEstimate {
   std::size_t start = 0;  // first steady sample (MSER)
   MeanEstimate mean;      // batch means of series[start:]
   double tau_int = 1.0;   // integrated autocorrelation time of series[start:], samples
 };
 
+// MSER start, then the mean of what is kept: batches == 0 (default) correlated_mean, else
+// batch_means with that many batches.
 SteadyEstimate steady_state(std::span<const double> series, std::size_t mser_batch = 5,
-                            std::size_t batches = 20);
+                            std::size_t batches = 0);
 
 }  // namespace granflow::analysis
