@@ -59,6 +59,17 @@ void record(ElementSeries& s, double time, double eps_d, double eps_v, double ep
   s.fluidized.push_back(state.force_chains.fluidized ? 1.0 : 0.0);
   s.yield_value.push_back(yield_value);
   s.stage.push_back(stage);
+  s.collisional_dissipation.push_back(parts.collisional_dissipation);
+  s.liquid_dissipation.push_back(parts.liquid_dissipation);
+}
+
+// Drift d ln|y| / dε_d between series entries i0 < i1 (finite: |y| is floored at 1e-300, so a
+// quantity that leaves 0 shows a large drift, one that stays 0 none).
+double log_drift(const std::vector<double>& y, const std::vector<double>& eps_d, std::size_t i0,
+                 std::size_t i1) {
+  const double floor = 1e-300;
+  return (std::log(std::max(std::abs(y[i1]), floor)) - std::log(std::max(std::abs(y[i0]), floor))) /
+         (eps_d[i1] - eps_d[i0]);
 }
 
 void check_state(long step, const PointState& state, const StressParts& parts) {
@@ -123,7 +134,14 @@ void run_triaxial(const MultiRegimePoint& point, const TriaxialControl& control,
     const double ratio = growth_ratio(stage.first_time_step, stage.duration, stage.steps);
     double dt = ratio > 1.0 ? stage.first_time_step / ratio : stage.duration / stage.steps;
     double x_guess = 0.0;  // Δε_v of the previous step
-    for (int k = 0; k < stage.steps; ++k) {
+    // Run on until steady: equal steps and a deviatoric rate only (the drift is per unit ε_d).
+    StageEnd end;
+    end.steady_checked =
+        stage.steady_tolerance > 0 && ratio == 1.0 && stage.deviatoric_strain_rate > 0;
+    const int window = std::min(
+        stage.steady_window > 0 ? stage.steady_window : std::max(1, stage.steps / 10), stage.steps);
+    const int max_steps = end.steady_checked ? std::max(stage.max_steps, stage.steps) : stage.steps;
+    for (int k = 0; k < max_steps; ++k) {
       dt *= ratio;
       const double d_eps_d = stage.deviatoric_strain_rate * dt;
       ++step;
@@ -256,9 +274,25 @@ void run_triaxial(const MultiRegimePoint& point, const TriaxialControl& control,
       record(series, time, eps_d, eps_v, eps_a, state, parts, u_w,
              parts.force_chain_update.yield_value, static_cast<int>(stage_index));
       result.steps = step;
-      if (progress && step % 500 == 0) progress(time / total_time);
-      if (core::interrupted()) return;  // SIGINT/SIGTERM: the series so far is the result
+      if (progress && step % 500 == 0) progress(std::min(time / total_time, 1.0));
+      end.last = series.time.size() - 1;
+      if (core::interrupted()) {  // SIGINT/SIGTERM: the series so far is the result
+        result.stage_ends.push_back(end);
+        return;
+      }
+      if (end.steady_checked && k + 1 >= stage.steps) {
+        // drifts over the last `window` steps (the window the residual is averaged over)
+        const std::size_t i0 = end.last - static_cast<std::size_t>(window);
+        end.drift_temperature =
+            log_drift(series.granular_temperature, series.deviatoric_strain, i0, end.last);
+        end.drift_q = log_drift(series.q, series.deviatoric_strain, i0, end.last);
+        end.steady = std::abs(end.drift_temperature) <= stage.steady_tolerance &&
+                     std::abs(end.drift_q) <= stage.steady_tolerance;
+        end.extra_steps = k + 1 - stage.steps;
+        if (end.steady) break;
+      }
     }
+    result.stage_ends.push_back(end);
   }
 }
 

@@ -35,6 +35,12 @@ struct TriaxialStage {
   int steps = 1000;                     // time steps
   double first_time_step = 0;           // > 0: steps grow geometrically from it (sum = duration)
   double drainage_length = 0.05;        // H, m (consolidating only)
+  // Run on until steady (equal steps only): after `steps`, the stage goes on with the same Δt
+  // until the drifts of T and q over the last `steady_window` steps, |d ln T/dε_d| and
+  // |d ln |q|/dε_d|, are both ≤ steady_tolerance, or until `max_steps`. 0: stop at `steps`.
+  double steady_tolerance = 0;  // per unit ε_d
+  int steady_window = 0;        // steps of the drift window (0: max(1, steps/10))
+  int max_steps = 0;            // steps at most when running on (>= steps)
 };
 
 struct TriaxialControl {
@@ -50,7 +56,18 @@ struct TriaxialControl {
 struct ElementSeries {
   std::vector<double> time, deviatoric_strain, volumetric_strain, axial_strain, q, q_force_chain,
       q_collisional, q_liquid, mean_stress, effective_pressure, collisional_pressure, pore_pressure,
-      granular_temperature, yield_size, void_ratio, fluidized, yield_value, stage;
+      granular_temperature, yield_size, void_ratio, fluidized, yield_value, stage,
+      collisional_dissipation, liquid_dissipation;  // Γ, Λ (W/m³)
+};
+
+// The end of one stage and, when it ran on until steady, its drifts there.
+struct StageEnd {
+  std::size_t last = 0;          // series index of the stage's last step
+  bool steady_checked = false;   // the stage had a steady_tolerance
+  bool steady = false;           // both drifts ≤ steady_tolerance at `last`
+  double drift_temperature = 0;  // d ln T / dε_d over the window ending at `last`
+  double drift_q = 0;            // d ln |q| / dε_d over the same window
+  int extra_steps = 0;           // steps run beyond the stage's `steps`
 };
 
 struct ElementResult {
@@ -60,6 +77,7 @@ struct ElementResult {
   double max_radial_residual = 0;     // largest |σ_r - σ_cell| accepted, Pa
   double liquefaction_strain = -1;    // ε_d where σ_FC first vanished (-1: never)
   double resolidification_time = -1;  // time where a fluidized skeleton became solid again
+  std::vector<StageEnd> stage_ends;   // one per stage run (fewer when interrupted)
 };
 
 // Runs the stages from the isotropic initial state (σ_FC = p'0 I, u_w = u_w0, cell pressure

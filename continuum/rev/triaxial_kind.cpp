@@ -65,6 +65,20 @@ core::Schema triaxial_schema() {
   loading.integer("steps", "equal steps of the shearing stage (Δε_d = final/steps)")
       .default_value("2000")
       .at_least(10);
+  loading
+      .number("steady_tolerance", "1",
+              "run on past final_deviatoric_strain (same Δε_d) until the residual is steady: "
+              "|d ln T/dε_d| and |d ln q/dε_d| over the residual window (the last 10 % of `steps`) "
+              "both ≤ this; 0: stop at final_deviatoric_strain (the residual may be a transient)")
+      .default_value("0.01")
+      .at_least(0);
+  loading
+      .number("max_deviatoric_strain", "",
+              "running on until steady stops here at the latest (summary residual.steady = 0 and "
+              "a warning); 0: 10 × final_deviatoric_strain")
+      .default_value("0")
+      .at_least(0)
+      .at_most(20);
   auto& recon = s.section("reconsolidation",
                           "optional second stage: the shear rate drops and the sample drains "
                           "towards u_w0 through a drainage length (lumped Darcy outflow)");
@@ -139,6 +153,12 @@ void check_triaxial(const core::Case& c) {
   const auto settings = continuum::read_multi_regime_settings(c);
   if (c.string("loading.drainage") == "undrained" && !settings.liquid)
     c.fail("loading.drainage", "undrained needs the liquid (liquid.enabled: true: K_w, η)");
+  const double max_strain = c.number("loading.max_deviatoric_strain");
+  if (max_strain > 0 && max_strain < c.number("loading.final_deviatoric_strain"))
+    c.fail("loading.max_deviatoric_strain",
+           fmt::format("{:g} is below loading.final_deviatoric_strain {:g}: expected 0 or a "
+                       "strain at least as large",
+                       max_strain, c.number("loading.final_deviatoric_strain")));
   if (c.boolean("reconsolidation.enabled") && !settings.liquid)
     c.fail("reconsolidation.enabled", "reconsolidation drains the liquid: liquid.enabled: true");
 }
@@ -159,6 +179,12 @@ TriaxialControl read_triaxial_control(const core::Case& c) {
   shear.deviatoric_strain_rate = c.number("loading.deviatoric_strain_rate");
   shear.duration = c.number("loading.final_deviatoric_strain") / shear.deviatoric_strain_rate;
   shear.steps = static_cast<int>(c.integer("loading.steps"));
+  shear.steady_tolerance = c.number("loading.steady_tolerance");
+  const double final_strain = c.number("loading.final_deviatoric_strain");
+  const double max_strain = c.number("loading.max_deviatoric_strain") > 0
+                                ? c.number("loading.max_deviatoric_strain")
+                                : 10.0 * final_strain;
+  shear.max_steps = static_cast<int>(std::ceil(shear.steps * max_strain / final_strain - 1e-9));
   t.stages.push_back(shear);
   if (c.boolean("reconsolidation.enabled")) {
     TriaxialStage recon;
@@ -195,11 +221,16 @@ void write_series(core::ResultFile& out, const std::string& g, const ElementSeri
   out.write(g + "/yield_value", s.yield_value, "1",
             "f at the end of the step (<= FTOL when solid)");
   out.write(g + "/stage", s.stage, "1", "0 = shearing, 1 = reconsolidation");
+  out.write(g + "/collisional_dissipation", s.collisional_dissipation, "W/m^3",
+            "Γ, collisional dissipation of T");
+  out.write(g + "/liquid_dissipation", s.liquid_dissipation, "W/m^3",
+            "Λ, dissipation of T by the liquid");
 }
 
-// Mean of v over the last 10 % of the entries [begin, end).
-double tail_mean(const std::vector<double>& v, std::size_t begin, std::size_t end) {
-  const std::size_t n = end - begin, first = end - std::max<std::size_t>(1, n / 10);
+// Mean of v over the `window` entries before `end` (the residual window: the last 10 % of the
+// shearing stage's nominal steps, ending where the stage ended).
+double tail_mean(const std::vector<double>& v, std::size_t window, std::size_t end) {
+  const std::size_t first = end - window;
   double sum = 0;
   for (std::size_t i = first; i < end; ++i) sum += v[i];
   return sum / static_cast<double>(end - first);
@@ -223,7 +254,7 @@ int run_triaxial_case(core::RunContext& ctx) {
   const auto conditions = ctx.run_case.expand_sweep();
   const bool sweep = ctx.run_case.is_sweep();
   core::Progress progress(ctx.log, "conditions", static_cast<double>(conditions.size()));
-  std::vector<double> rates, residual_q, residual_q_col, residual_q_liq;
+  std::vector<double> rates, residual_q, residual_q_col, residual_q_liq, lambda_share, steady;
   long total_steps = 0, total_evaluations = 0;
   double max_residual = 0;
   for (std::size_t n = 0; n < conditions.size() && !core::interrupted(); ++n) {
@@ -252,17 +283,46 @@ int run_triaxial_case(core::RunContext& ctx) {
     ctx.result.flush();
 
     const auto& s = r.series;
-    const std::size_t shear_end = static_cast<std::size_t>(control.stages[0].steps) + 1;
+    // The shearing stage ends where it became steady (or at its nominal/maximum strain); the
+    // residual is the mean over its last 10 % of nominal steps.
+    const StageEnd shear = r.stage_ends.empty() ? StageEnd{} : r.stage_ends[0];
+    const std::size_t shear_end = shear.last + 1;
+    const std::size_t window =
+        std::clamp<std::size_t>(static_cast<std::size_t>(control.stages[0].steps / 10), 1,
+                                std::max<std::size_t>(1, shear.last));
     const std::size_t last = s.time.size() - 1;
     const std::string suffix = sweep ? fmt::format(".{}", n) : "";
     auto& sum = ctx.summary;
     if (r.liquefaction_strain >= 0) sum.set("liquefaction.eps_d" + suffix, r.liquefaction_strain);
-    const double q_res = tail_mean(s.q, 1, shear_end);
+    const double q_res = tail_mean(s.q, window, shear_end);
     sum.set("residual.q" + suffix, q_res);
-    sum.set("residual.q_fc" + suffix, tail_mean(s.q_force_chain, 1, shear_end));
-    sum.set("residual.q_col" + suffix, tail_mean(s.q_collisional, 1, shear_end));
-    sum.set("residual.q_liq" + suffix, tail_mean(s.q_liquid, 1, shear_end));
-    sum.set("residual.T" + suffix, tail_mean(s.granular_temperature, 1, shear_end));
+    sum.set("residual.q_fc" + suffix, tail_mean(s.q_force_chain, window, shear_end));
+    sum.set("residual.q_col" + suffix, tail_mean(s.q_collisional, window, shear_end));
+    sum.set("residual.q_liq" + suffix, tail_mean(s.q_liquid, window, shear_end));
+    sum.set("residual.T" + suffix, tail_mean(s.granular_temperature, window, shear_end));
+    const double gamma_res = tail_mean(s.collisional_dissipation, window, shear_end);
+    const double lambda_res = tail_mean(s.liquid_dissipation, window, shear_end);
+    if (gamma_res + lambda_res > 0)
+      sum.set("residual.liquid_dissipation_share" + suffix, lambda_res / (gamma_res + lambda_res));
+    sum.set("residual.eps_d" + suffix, s.deviatoric_strain[shear.last]);
+    if (shear.steady_checked) {
+      sum.set("residual.steady" + suffix, shear.steady ? 1.0 : 0.0);
+      sum.set("residual.drift_T" + suffix, shear.drift_temperature);
+      sum.set("residual.drift_q" + suffix, shear.drift_q);
+      if (shear.steady && shear.extra_steps > 0)
+        ctx.log->info(
+            "{}: ran on to ε_d = {:.4g} ({} steps past the final strain) until steady: "
+            "d ln T/dε_d = {:.3g}, d ln q/dε_d = {:.3g}",
+            label, s.deviatoric_strain[shear.last], shear.extra_steps, shear.drift_temperature,
+            shear.drift_q);
+      if (!shear.steady)
+        ctx.log->warn(
+            "{}: the residual is not steady at ε_d = {:.4g} (loading.max_deviatoric_strain): "
+            "d ln T/dε_d = {:.3g}, d ln q/dε_d = {:.3g} above loading.steady_tolerance {:g}; the "
+            "reported residual is a transient",
+            label, s.deviatoric_strain[shear.last], shear.drift_temperature, shear.drift_q,
+            control.stages[0].steady_tolerance);
+    }
     sum.set("peak.q" + suffix, *std::max_element(s.q.begin(), s.q.begin() + shear_end));
     sum.set("final.r_c" + suffix, s.yield_size[last]);
     sum.set("final.T" + suffix, s.granular_temperature[last]);
@@ -289,8 +349,10 @@ int run_triaxial_case(core::RunContext& ctx) {
     sum.set("check.max_radial_residual" + suffix, r.max_radial_residual);
     rates.push_back(control.stages[0].deviatoric_strain_rate);
     residual_q.push_back(q_res);
-    residual_q_col.push_back(tail_mean(s.q_collisional, 1, shear_end));
-    residual_q_liq.push_back(tail_mean(s.q_liquid, 1, shear_end));
+    residual_q_col.push_back(tail_mean(s.q_collisional, window, shear_end));
+    residual_q_liq.push_back(tail_mean(s.q_liquid, window, shear_end));
+    lambda_share.push_back(gamma_res + lambda_res > 0 ? lambda_res / (gamma_res + lambda_res) : 0);
+    steady.push_back(shear.steady_checked ? (shear.steady ? 1.0 : 0.0) : -1.0);
     if (sweep) sum.set("rate" + suffix, control.stages[0].deviatoric_strain_rate);
     ctx.log->info(
         "{}: {} steps, {} point updates; liquefaction at ε_d = {}; residual q = {:.4g} Pa "
@@ -298,9 +360,10 @@ int run_triaxial_case(core::RunContext& ctx) {
         "T = {:.3g} m²/s², r_c = {:.4g} Pa",
         label, r.steps, r.solver_evaluations,
         r.liquefaction_strain >= 0 ? fmt::format("{:.4g}", r.liquefaction_strain) : "never", q_res,
-        tail_mean(s.q_force_chain, 1, shear_end), tail_mean(s.q_collisional, 1, shear_end),
-        tail_mean(s.q_liquid, 1, shear_end), s.void_ratio[last], s.effective_pressure[last],
-        s.pore_pressure[last], s.granular_temperature[last], s.yield_size[last]);
+        tail_mean(s.q_force_chain, window, shear_end),
+        tail_mean(s.q_collisional, window, shear_end), tail_mean(s.q_liquid, window, shear_end),
+        s.void_ratio[last], s.effective_pressure[last], s.pore_pressure[last],
+        s.granular_temperature[last], s.yield_size[last]);
     total_steps += r.steps;
     total_evaluations += r.solver_evaluations;
     max_residual = std::max(max_residual, r.max_radial_residual);
@@ -333,6 +396,31 @@ int run_triaxial_case(core::RunContext& ctx) {
         "rate sweep: slope of log q_res vs log ε̇_d = {:.3f} (3 lowest rates), {:.3f} "
         "(3 highest)",
         slope_of(0), slope_of(rates.size() - 3));
+    // Local slopes d ln q / d ln ε̇_d between neighbouring rates, and the table of the regimes:
+    // q_COL/q_L and Λ/(Γ + Λ), the liquid's share of the dissipation of T.
+    std::vector<double> local_slope(rates.size(), 0.0), ratio(rates.size());
+    ctx.log->info(
+        "rate sweep: ε̇_d 1/s | residual q Pa | q_COL/q_L | Λ/(Γ+Λ) | steady | slope to next");
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      const std::size_t i = order[k];
+      ratio[i] = residual_q_col[i] / residual_q_liq[i];
+      std::string slope = "-";
+      if (k + 1 < order.size()) {
+        const std::size_t j = order[k + 1];
+        local_slope[i] = std::log(residual_q[j] / residual_q[i]) / std::log(rates[j] / rates[i]);
+        ctx.summary.set(fmt::format("slope.local.{}", i), local_slope[i]);
+        slope = fmt::format("{:.3f}", local_slope[i]);
+      }
+      ctx.log->info("rate sweep: {:g} | {:.4g} | {:.3g} | {:.3f} | {:g} | {}", rates[i],
+                    residual_q[i], ratio[i], lambda_share[i], steady[i], slope);
+    }
+    ctx.result.write("/sweep/local_slope", local_slope, "1",
+                     "d ln q / d ln ε̇_d from this rate to the next higher one (0 at the highest)");
+    ctx.result.write("/sweep/q_col_over_q_liq", ratio, "1", "residual q_COL / q_L");
+    ctx.result.write("/sweep/liquid_dissipation_share", lambda_share, "1",
+                     "Λ / (Γ + Λ) over the residual window");
+    ctx.result.write("/sweep/steady", steady, "1",
+                     "1: residual steady within loading.steady_tolerance, 0: not, -1: unchecked");
   }
   if (sweep) ctx.summary.set("sweep.count", static_cast<double>(conditions.size()));
   const double wall = ctx.wall_seconds();
