@@ -68,8 +68,9 @@ core::Schema triaxial_schema() {
   loading
       .number("steady_tolerance", "1",
               "run on past final_deviatoric_strain (same Δε_d) until the residual is steady: "
-              "|d ln T/dε_d| and |d ln q/dε_d| over the residual window (the last 10 % of `steps`) "
-              "both ≤ this; 0: stop at final_deviatoric_strain (the residual may be a transient)")
+              "the drifts d ln T/dε_d and d ln q/dε_d over the residual window (the last 10 % of "
+              "`steps`) both within ± this; 0: stop at final_deviatoric_strain (the residual may "
+              "be a transient)")
       .default_value("0.01")
       .at_least(0);
   loading
