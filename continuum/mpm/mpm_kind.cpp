@@ -63,7 +63,7 @@ void add_numerics(core::Schema& s, NumericsDefaults d) {
            "(then Δt also obeys the drag time scale)")
       .default_value("semi_implicit");
   n.boolean("liquid_volumetric_smoothing",
-            "cell-averaged volumetric rate for the liquid pressure (linear shapes)")
+            "cell-averaged volumetric rate and cell-constant liquid pressure (linear shapes)")
       .default_value(d.smoothing);
   n.number("pressure_relaxation_time", "s",
            "t_p: the pore pressure relaxes towards its nodal average at the rate 1/t_p (removes "

@@ -1261,6 +1261,7 @@ void Solver::constitutive_update(bool move) {
       }
       if (liquid_point(p)) bad_liquid = std::max(bad_liquid, p);
     }
+    if (options_.liquid_volumetric_smoothing && bad_liquid < 0) cell_constant_pressure();
   }
   if (bad_solid >= 0) {
     const long p = bad_solid;
@@ -1274,6 +1275,38 @@ void Solver::constitutive_update(bool move) {
   if (bad_liquid >= 0) {
     throw SolverFailure(step_ + 1, fmt::format("liquid point {}", bad_liquid), "pressure",
                         liquid_.pressure[bad_liquid], "non-finite value");
+  }
+}
+
+// The pressure work of the internal force, -Σ_p V_p p_p tr(D)_p, and the storage equation driven
+// by the cell-averaged rate, dp_p = -(K_w/n) <tr D>_cell dt, are adjoint (the stored energy
+// Σ V p²/2K_w changes by exactly the pressure work) only when p is uniform within each cell:
+//   Σ_{p∈c} V_p p_p <tr D>_c = p_c Σ_{p∈c} V_p tr(D)_p   iff   p_p = p_c.
+// A within-cell spread of p (round-off, points that crossed a cell face) is invisible to the
+// smoothed rate but drives the nodes, so the discrete operator is no longer skew-adjoint; on the
+// polar grid in Couette flow an azimuthal mode of wavenumber about 0.45 × cells_theta grew from
+// round-off with an e-folding time of 0.17 s (10 × 64 cells) and reached 0.3 V at 7 s. Making the
+// pressure constant per cell after each update (its volume-weighted mean; the cell-constant
+// pressure of the Q1-P0 element, Hughes 2000 ch. 4, carried by the points as in the strain
+// smoothing of Mast et al. 2012) restores the adjoint pair: the mode stays at round-off.
+void Solver::cell_constant_pressure() {
+  const long nl = static_cast<long>(liquid_.size());
+  const int nn = nn_;
+  scatter(2, [&](double* acc, int t, int T) {
+    std::size_t b, e;
+    chunk(static_cast<std::size_t>(nl), t, T, b, e);
+    for (std::size_t p = b; p < e; ++p) {
+      acc[liquid_cell_[p]] += liquid_.volume[p] * liquid_.pressure[p];
+      acc[nn + liquid_cell_[p]] += liquid_.volume[p];
+    }
+  });
+  const double K = liquid_options_.bulk_modulus, rho0 = liquid_options_.density;
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
+  for (long p = 0; p < nl; ++p) {
+    liquid_.pressure[p] = acc_[liquid_cell_[p]] / acc_[nn + liquid_cell_[p]];
+    // V = m / (n ρ_w), ρ_w = ρ_w0 exp(p / K_w), with the cell's pressure.
+    liquid_.volume[p] =
+        liquid_.mass[p] / (liquid_.porosity[p] * rho0 * std::exp(liquid_.pressure[p] / K));
   }
 }
 
