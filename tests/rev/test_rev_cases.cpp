@@ -9,6 +9,8 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 namespace fs = std::filesystem;
@@ -16,18 +18,23 @@ namespace fs = std::filesystem;
 namespace {
 
 // Runs a shipped case into a scratch directory; returns summary.json parsed (JSON is YAML).
-YAML::Node run_case(const std::string& name) {
+YAML::Node run_case(const std::string& name, const std::string& extra = "",
+                    std::string* log = nullptr) {
   const fs::path out =
       fs::temp_directory_path() / ("granflow_rev_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(out);
   const std::string command = "GRANFLOW_PYTHON=true " + std::string(GRANFLOW_BINARY_DIR) +
                               "/app/granflow run " + std::string(GRANFLOW_SOURCE_DIR) +
-                              "/cases/rev/" + name + ".yaml --out " + out.string() +
+                              "/cases/rev/" + name + ".yaml --out " + out.string() + " " + extra +
                               " > /dev/null 2>&1";
   const int status = std::system(command.c_str());
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << command;
   EXPECT_TRUE(fs::exists(out / "result.h5"));
   YAML::Node summary = YAML::LoadFile((out / "summary.json").string());
+  if (log) {
+    std::ifstream in(out / "log.txt");
+    *log = std::string(std::istreambuf_iterator<char>(in), {});
+  }
   fs::remove_all(out);
   return summary;
 }
@@ -65,6 +72,24 @@ TEST(RevCases, RateSweepSlopesAreNewtonianThenBagnoldian) {
   // a collisional share q_COL/q ≈ 0.1 at 0.3 1/s, which steepens the fit.
   EXPECT_NEAR(s["slope.low"].as<double>(), 1.0, 0.2);
   EXPECT_NEAR(s["slope.high"].as<double>(), 2.0, 0.2);
+}
+
+TEST(RevCases, TransientResidualIsFlaggedAndSteadyOneIsNot) {
+  // 10 1/s stopped at ε_d = 0.15 by loading.max_deviatoric_strain: T still rises (drift ≈ 0.5 per
+  // unit ε_d there, 50× the tolerance 0.01), so the summary says residual.steady = 0 with the
+  // drift and the log warns; run on (the default maximum 1.2) it is steady by ε_d ≈ 0.26.
+  std::string log;
+  const YAML::Node cut =
+      run_case("triaxial_undrained_rate10", "--set loading.max_deviatoric_strain=0.15", &log);
+  EXPECT_EQ(cut["residual.steady"].as<double>(), 0.0);
+  EXPECT_GT(cut["residual.drift_T"].as<double>(), 0.1);
+  EXPECT_NEAR(cut["residual.eps_d"].as<double>(), 0.15, 1e-9);
+  EXPECT_NE(log.find("the residual is not steady"), std::string::npos) << log;
+  const YAML::Node steady = run_case("triaxial_undrained_rate10");
+  EXPECT_EQ(steady["residual.steady"].as<double>(), 1.0);
+  EXPECT_LE(std::abs(steady["residual.drift_T"].as<double>()), 0.01);
+  EXPECT_GT(steady["residual.eps_d"].as<double>(), 0.2);
+  EXPECT_GT(steady["residual.q"].as<double>(), cut["residual.q"].as<double>());
 }
 
 TEST(RevCases, ReconsolidationRegrowsTheSkeleton) {
