@@ -76,7 +76,7 @@ core::Schema triaxial_schema() {
   loading
       .number("max_deviatoric_strain", "",
               "running on until steady stops here at the latest (summary residual.steady = 0 and "
-              "a warning); 0: 10 × final_deviatoric_strain")
+              "a warning), at most 100 × final_deviatoric_strain; 0: 10 × final_deviatoric_strain")
       .default_value("0")
       .at_least(0)
       .at_most(20);
@@ -155,11 +155,18 @@ void check_triaxial(const core::Case& c) {
   if (c.string("loading.drainage") == "undrained" && !settings.liquid)
     c.fail("loading.drainage", "undrained needs the liquid (liquid.enabled: true: K_w, η)");
   const double max_strain = c.number("loading.max_deviatoric_strain");
-  if (max_strain > 0 && max_strain < c.number("loading.final_deviatoric_strain"))
+  const double final_strain = c.number("loading.final_deviatoric_strain");
+  if (max_strain > 0 && max_strain < final_strain)
     c.fail("loading.max_deviatoric_strain",
            fmt::format("{:g} is below loading.final_deviatoric_strain {:g}: expected 0 or a "
                        "strain at least as large",
-                       max_strain, c.number("loading.final_deviatoric_strain")));
+                       max_strain, final_strain));
+  // the series keeps every step: running on is bounded to 100 × the nominal stage
+  if (max_strain > 100 * final_strain)
+    c.fail("loading.max_deviatoric_strain",
+           fmt::format("{:g} is more than 100 × loading.final_deviatoric_strain {:g} (every step "
+                       "is kept in the series): expected at most {:g}",
+                       max_strain, final_strain, 100 * final_strain));
   if (c.boolean("reconsolidation.enabled") && !settings.liquid)
     c.fail("reconsolidation.enabled", "reconsolidation drains the liquid: liquid.enabled: true");
 }
