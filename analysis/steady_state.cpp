@@ -98,6 +98,9 @@ MeanEstimate correlated_mean(std::span<const double> series) {
   const auto wanted = std::size_t(std::ceil(5.0 * tau));
   const std::size_t batches = std::clamp<std::size_t>(n / std::max<std::size_t>(wanted, 1), 4, 20);
   MeanEstimate e = batch_means(series, batches);
+  // The mean of every sample (batch_means drops the n mod B oldest): linear in the series, so
+  // the means of parts that add up per sample add up (the immersed τ split).
+  e.mean = mean_of(series);
   double var = 0.0;
   for (double x : series) var += (x - e.mean) * (x - e.mean);
   var /= double(n - 1);

@@ -53,9 +53,9 @@ double integrated_autocorrelation_time(std::span<const double> series, double wi
 // Stegun 26.7.5; better than 1e-3 relative for dof >= 5).
 double student_t_975(std::size_t dof);
 
-// Mean with a standard error that accounts for correlation (see the header): batches of
-// max(n / 20, 5 tau_int) samples (at least 4 batches), standard error the larger of the batch-means
-// and the tau_int estimates; ci95 from Student t with batches - 1 degrees of freedom.
+// Mean of every sample with a standard error that accounts for correlation (see the header):
+// batches of max(n / 20, 5 tau_int) samples (at least 4 batches), standard error the larger of the
+// batch-means and the tau_int estimates; ci95 from Student t with batches - 1 degrees of freedom.
 MeanEstimate correlated_mean(std::span<const double> series);
 
 struct DriftTest {

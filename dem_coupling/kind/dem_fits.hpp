@@ -26,8 +26,9 @@
 
 namespace granflow::dem {
 
-// Steady ratio <part>/<σ_yy> over series[start:] and its standard error by batch means of the
-// linearised residual part − ratio σ_yy (delta method, as μ in dem_kind.cpp).
+// Steady ratio <part>/<σ_yy> over series[start:] and its standard error (correlated_mean,
+// analysis/steady_state.hpp) of the linearised residual part − ratio σ_yy (delta method, as μ in
+// dem_kind.cpp).
 struct StressRatio {
   double value = std::numeric_limits<double>::quiet_NaN();
   double error = std::numeric_limits<double>::quiet_NaN();
@@ -36,12 +37,12 @@ inline StressRatio stress_ratio_of_series(const std::vector<double>& part,
                                           const std::vector<double>& sigma, std::size_t start) {
   StressRatio out;
   if (part.size() != sigma.size() || start + 4 > sigma.size()) return out;
-  const auto p = analysis::batch_means(std::span(part).subspan(start));
-  const auto s = analysis::batch_means(std::span(sigma).subspan(start));
+  const auto p = analysis::correlated_mean(std::span(part).subspan(start));
+  const auto s = analysis::correlated_mean(std::span(sigma).subspan(start));
   out.value = p.mean / s.mean;
   std::vector<double> residual(sigma.size());
   for (std::size_t i = 0; i < sigma.size(); ++i) residual[i] = part[i] - out.value * sigma[i];
-  out.error = analysis::batch_means(std::span(residual).subspan(start)).standard_error / s.mean;
+  out.error = analysis::correlated_mean(std::span(residual).subspan(start)).standard_error / s.mean;
   return out;
 }
 

@@ -1,0 +1,306 @@
+#include "dem_coupling/kind/point_analysis.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <span>
+
+#include "analysis/steady_state.hpp"
+#include "dem_coupling/kind/dem_fits.hpp"
+#include "dem_coupling/kind/series_table.hpp"
+#include "dem_coupling/kind/steady_checks.hpp"
+
+namespace granflow::dem {
+
+namespace {
+
+// Steady value of one series: MSER start (given), mean and a standard error that accounts for
+// the correlation of the samples (analysis::correlated_mean).
+struct Steady {
+  double mean, error;
+};
+Steady steady_of(const std::vector<double>& series, std::size_t start) {
+  const auto e = analysis::correlated_mean(std::span(series).subspan(start));
+  return {e.mean, e.standard_error};
+}
+
+constexpr const char* series_units[][3] = {
+    {"step", "1", "LIGGGHTS time step number"},
+    {"time", "s", "time since the start of shear"},
+    {"strain", "1", "shear strain γ̇ t"},
+    {"ly", "m", "box height L_y"},
+    {"xy", "m", "tilt of the Lees-Edwards box"},
+    {"volume", "m^3", "box volume"},
+    {"Pvir_yy", "Pa", "contact (virial) normal stress P^vir_yy, compression positive"},
+    {"Pvir_xy", "Pa", "contact (virial) shear component P^vir_xy"},
+    {"Pkin_yy", "Pa", "kinetic normal stress about the profile"},
+    {"Pkin_xy", "Pa", "kinetic shear component about the profile"},
+    {"P_xx", "Pa", "total stress P_xx (compression positive)"},
+    {"P_yy", "Pa", "total stress P_yy"},
+    {"P_zz", "Pa", "total stress P_zz"},
+    {"P_xy", "Pa", "total stress P_xy"},
+    {"sigma_yy", "Pa", "normal stress σ_yy = P_yy"},
+    {"tau", "Pa", "shear stress τ = -P_xy"},
+    {"p", "Pa", "mean pressure tr(P)/3"},
+    {"mu", "1", "stress ratio μ = τ/σ_yy"},
+    {"T", "m^2/s^2", "granular temperature about the Lees-Edwards profile"},
+    {"phi", "1", "solid fraction φ"},
+    {"e", "1", "void ratio e = 1/φ - 1"},
+    {"I", "1", "inertial number γ̇ d / sqrt(σ_yy/ρ_p)"},
+    {"Z", "1", "coordination number 2 N_c / N"},
+    {"momentum_x", "kg m/s", "peculiar momentum Σ m (v_x - u_x(y))"},
+    {"momentum_y", "kg m/s", "momentum Σ m v_y"},
+    {"momentum_z", "kg m/s", "momentum Σ m v_z"},
+    {"profile_deviation", "1", "RMS deviation of the mean v_x profile from the line / (γ̇ L_y)"},
+};
+
+// Immersed runs only: the shear-stress split (docs/dem_fluid.md; sums to tau).
+constexpr const char* wet_series_units[][3] = {
+    {"tau_contact", "Pa", "contact shear stress -P^vir_xy - τ_lub - τ_drag"},
+    {"tau_lub", "Pa", "lubrication shear stress -(P_lub,n,xy + P_lub,t,xy)"},
+    {"tau_drag", "Pa", "drag shear stress -P_drag,xy"},
+    {"tau_kin", "Pa", "kinetic shear stress -P^kin_xy"},
+    {"lubricated_pairs", "1", "number of pairs with h < h_max"},
+};
+
+}  // namespace
+
+PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& dir,
+                          const std::string& group, const ShearDeckParams& p,
+                          const ShearDeck& deck) {
+  PointResult r;
+  const SeriesTable t = read_series_table(dir / "series.tsv");
+  auto& out = ctx.result;
+  if (t.rows() > 0) {
+    for (const auto& [name, unit, doc] : series_units)
+      out.write(group + "/series/" + name, t.at(name), unit, doc);
+    if (p.wet.enabled)
+      for (const auto& [name, unit, doc] : wet_series_units)
+        out.write(group + "/series/" + name, t.at(name), unit, doc);
+    const SeriesTable prof = read_series_table(dir / "profile.tsv", false);
+    if (prof.rows() > 0 && prof.names.size() > 2) {
+      const std::size_t bins = prof.names.size() - 2;
+      std::vector<double> matrix;
+      matrix.reserve(prof.rows() * bins);
+      for (std::size_t i = 0; i < prof.rows(); ++i)
+        for (std::size_t b = 0; b < bins; ++b) matrix.push_back(prof.at(std::to_string(b + 2))[i]);
+      out.write_matrix(group + "/profile/velocity", matrix, prof.rows(), bins, "m/s",
+                       "mean v_x per y bin (rows: samples, cols: bins from ylo up)");
+      out.write(group + "/profile/strain", prof.at("1"), "1", "shear strain of each row");
+    }
+  }
+  out.attribute(group, "dt", deck.dt);
+  out.attribute(group, "dt_limit", deck.dt_limit);
+  if (p.wet.enabled) {
+    out.attribute(group, "viscosity", p.wet.viscosity);
+    out.attribute(group, "minimum_gap", p.wet.minimum_gap * p.material.diameter);
+    out.attribute(group, "maximum_gap", p.wet.maximum_gap * p.material.diameter);
+    out.attribute(group, "permeability", p.wet.permeability);
+  }
+  out.attribute(group, "rayleigh_time", deck.times.rayleigh);
+  out.attribute(group, "hertz_time", deck.times.hertz);
+  out.attribute(group, "contact_law",
+                p.material.contact_law == ContactLaw::hooke ? "hooke" : "hertz");
+  if (p.material.contact_law == ContactLaw::hooke) {
+    out.attribute(group, "linear_spring_contact_time", deck.times.linear_spring);
+    out.attribute(group, "normal_stiffness", p.material.normal_stiffness);
+  }
+  out.attribute(group, "shear_rate", p.shear_rate);
+  out.attribute(group, "mean_diameter", deck.mean_diameter);
+  out.attribute(group, "particles", double(p.particles));
+  out.attribute(group, "particle_friction", p.material.particle_friction);
+  out.attribute(group, "restitution", p.material.restitution);
+  out.attribute(group, "control", p.constant_pressure ? "constant_pressure" : "constant_volume");
+  if (p.constant_pressure)
+    out.attribute(group, "normal_stress_target", p.normal_stress);
+  else
+    out.attribute(group, "solid_fraction_target", p.solid_fraction);
+  out.flush();
+  r.dt = deck.dt;
+  r.particles = double(p.particles);
+  if (t.rows() < 8) return r;
+
+  // Steady start: the latest MSER-5 truncation among the main observables.
+  std::size_t start = 0;
+  for (const char* name : {"sigma_yy", "tau", "phi", "T"})
+    start = std::max(start, analysis::mser_truncation(t.at(name), 5));
+  const auto& sigma = t.at("sigma_yy");
+  const auto& tau = t.at("tau");
+  const Steady s_sigma = steady_of(sigma, start);
+  const Steady s_tau = steady_of(tau, start);
+  // mu = <tau>/<sigma_yy> (ratio of means); its error from the batch means of the linearised
+  // residual tau - mu sigma_yy (delta method): se(mu) = se(<tau - mu sigma>) / <sigma>.
+  const double mu = s_tau.mean / s_sigma.mean;
+  std::vector<double> residual(sigma.size());
+  for (std::size_t i = 0; i < sigma.size(); ++i) residual[i] = tau[i] - mu * sigma[i];
+  const double mu_err = steady_of(residual, start).error / s_sigma.mean;
+  const Steady s_phi = steady_of(t.at("phi"), start);
+  const Steady s_T = steady_of(t.at("T"), start);
+  const Steady s_p = steady_of(t.at("p"), start);
+  const Steady s_Z = steady_of(t.at("Z"), start);
+  const Steady s_dev = steady_of(t.at("profile_deviation"), start);
+  const double d = deck.mean_diameter;
+  const double inertial = p.shear_rate * d / std::sqrt(s_sigma.mean / p.material.particle_density);
+  auto& v = r.values;
+  v["mu"] = mu;
+  v["mu_err"] = mu_err;
+  v["phi"] = s_phi.mean;
+  v["phi_err"] = s_phi.error;
+  v["e"] = 1.0 / s_phi.mean - 1.0;
+  v["e_err"] = s_phi.error / (s_phi.mean * s_phi.mean);
+  v["T"] = s_T.mean;
+  v["T_err"] = s_T.error;
+  v["T_scaled"] = s_T.mean / (d * p.shear_rate * d * p.shear_rate);
+  v["p"] = s_sigma.mean;
+  v["p_err"] = s_sigma.error;
+  v["p_mean"] = s_p.mean;
+  v["p_mean_err"] = s_p.error;
+  v["tau"] = s_tau.mean;
+  v["tau_err"] = s_tau.error;
+  v["I"] = inertial;
+  v["I_err"] = 0.5 * inertial * s_sigma.error / s_sigma.mean;  // I ∝ σ^(-1/2)
+  v["Z"] = s_Z.mean;
+  v["Z_err"] = s_Z.error;
+  v["profile_deviation"] = s_dev.mean;
+  v["start_strain"] = t.at("strain")[start];
+  v["end_strain"] = t.at("strain").back();
+  v["samples"] = double(t.rows() - start);
+  v["tau_int_mu"] =
+      analysis::integrated_autocorrelation_time(std::span<const double>(residual).subspan(start));
+  if (p.constant_pressure) {
+    // The servo holds the mean σ_yy (extraction/normal_stress_servo.hpp); a miss of more than
+    // max_target_miss standard errors is flagged (kind/steady_checks.hpp).
+    v["p_rel_dev"] = s_sigma.mean / p.normal_stress - 1.0;
+    const double miss = s_sigma.error > 0.0 ? (s_sigma.mean - p.normal_stress) / s_sigma.error
+                                            : std::numeric_limits<double>::quiet_NaN();
+    v["normal_stress_miss_se"] = miss;
+    v["normal_stress_on_target"] = std::abs(miss) <= max_target_miss ? 1.0 : 0.0;
+    if (!(std::abs(miss) <= max_target_miss))
+      r.warnings.push_back(fmt::format(
+          "steady σ_yy = {:.4g} ± {:.2g} Pa misses the imposed {:g} Pa by {:.1f} standard errors "
+          "({:+.1f} %)",
+          s_sigma.mean, s_sigma.error, p.normal_stress, miss, 100.0 * v["p_rel_dev"]));
+  }
+  // Steady means steady: no observable may drift over the window (kind/steady_checks.hpp).
+  const SteadyCheck check = check_steady(t, start, residual);
+  v["reached"] = check.reached ? 1.0 : 0.0;
+  v["drift_max"] = check.worst;
+  for (const auto& [name, z] : check.drift) {
+    if (std::isfinite(z)) v["drift." + name] = z;
+    if (!std::isfinite(z))
+      r.warnings.push_back(fmt::format(
+          "NOT steady: the window from strain {:.3g} is too short to test {} for a drift",
+          v["start_strain"], name));
+    else if (std::abs(z) > max_drift)
+      r.warnings.push_back(fmt::format(
+          "NOT steady: {} drifts over the window (strain {:.3g}-{:.3g}): second half − first half "
+          "= {:.1f} standard errors (limit {:g}); run longer (strain.total) or read the value as "
+          "a transient",
+          name, v["start_strain"], v["end_strain"], z, max_drift));
+  }
+  if (p.wet.enabled) {
+    // Viscous number J = η0 γ̇ / σ_yy (Boyer et al. 2011), Stokes number St = ρ_p d² γ̇ / η0 = I²/J,
+    // K = J + α I² (Trulsson et al. 2012). Errors from that of σ_yy (J ∝ 1/σ, I² ∝ 1/σ).
+    const double eta = p.wet.viscosity;
+    const double viscous = eta * p.shear_rate / s_sigma.mean;
+    const double rel = s_sigma.error / s_sigma.mean;
+    const double alpha = p.wet.trulsson_alpha;
+    v["eta"] = eta;
+    v["St"] = p.material.particle_density * d * d * p.shear_rate / eta;
+    v["J"] = viscous;
+    v["J_err"] = viscous * rel;
+    v["K"] = viscous + alpha * inertial * inertial;
+    v["K_err"] = v["K"] * rel;
+    for (const char* part : {"tau_contact", "tau_lub", "tau_drag", "tau_kin"}) {
+      const Steady s_part = steady_of(t.at(part), start);
+      v[part] = s_part.mean;
+      v[std::string(part) + "_err"] = s_part.error;
+    }
+    // Stress ratios of the parts, for Boyer's μ_c(J) and μ_h(J) (kind/dem_fits.hpp).
+    const StressRatio contact = stress_ratio_of_series(t.at("tau_contact"), sigma, start);
+    const StressRatio lub = stress_ratio_of_series(t.at("tau_lub"), sigma, start);
+    v["mu_contact"] = contact.value;
+    v["mu_contact_err"] = contact.error;
+    v["mu_lub"] = lub.value;
+    v["mu_lub_err"] = lub.error;
+  }
+  for (const auto& [name, value] : v) out.attribute(group + "/steady", name, value);
+  return r;
+}
+
+void write_seed_statistics(core::RunContext& ctx, const std::vector<SeedGroup>& groups,
+                           const std::vector<PointResult>& results) {
+  if (groups.empty()) return;
+  struct Observable {
+    const char *key, *unit, *doc;
+  };
+  constexpr Observable observables[] = {
+      {"mu", "1", "μ"},      {"phi", "1", "φ"},   {"e", "1", "e"},
+      {"T", "m^2/s^2", "T"}, {"p", "Pa", "σ_yy"}, {"p_mean", "Pa", "tr(P)/3"},
+      {"tau", "Pa", "τ"},    {"I", "1", "I"},     {"Z", "1", "Z"}};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto get = [&](std::size_t n, const std::string& key) {
+    if (n >= results.size()) return nan;
+    const auto it = results[n].values.find(key);
+    return it != results[n].values.end() ? it->second : nan;
+  };
+  std::map<std::string, std::vector<double>> columns;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    std::map<std::string, SeedCombined> combined;
+    for (const Observable& o : observables) {
+      std::vector<double> v, e;
+      for (std::size_t n : groups[g].members) {
+        v.push_back(get(n, o.key));
+        e.push_back(get(n, std::string(o.key) + "_err"));
+      }
+      const SeedCombined c = combine_seeds(v, e);
+      combined[o.key] = c;
+      const std::string k = o.key;
+      columns[k].push_back(c.mean);
+      columns[k + "_err"].push_back(c.error);
+      columns[k + "_within_err"].push_back(c.within);
+      columns[k + "_scatter_ratio"].push_back(c.scatter_ratio);
+      for (const auto& [name, value] :
+           {std::pair{k, c.mean}, {k + "_err", c.error}, {k + "_scatter_ratio", c.scatter_ratio}})
+        if (std::isfinite(value)) ctx.summary.set(fmt::format("seeds.{}.{}", name, g), value);
+    }
+    ctx.summary.set(fmt::format("seeds.count.{}", g), double(combined["mu"].seeds));
+    columns["seeds"].push_back(double(combined["mu"].seeds));
+    std::string label;
+    for (const auto& [key, value] : groups[g].condition) {
+      label += fmt::format(" {}={:g}", key, value);
+      columns[key].push_back(value);
+    }
+    const auto& mu = combined["mu"];
+    const auto& phi = combined["phi"];
+    const auto& p = combined["p"];
+    const auto& t = combined["T"];
+    ctx.log->info(
+        "seeds{}: {} seeds: μ = {:.4f} ± {:.4f}, φ = {:.4f} ± {:.4f}, σ_yy = {:.4g} ± {:.2g} Pa, "
+        "T = {:.4g} ± {:.2g} m²/s² (mean ± between-seed standard error; between-seed / per-run "
+        "error: μ {:.2f}, φ {:.2f}, σ_yy {:.2f}, T {:.2f})",
+        label, mu.seeds, mu.mean, mu.error, phi.mean, phi.error, p.mean, p.error, t.mean, t.error,
+        mu.scatter_ratio, phi.scatter_ratio, p.scatter_ratio, t.scatter_ratio);
+  }
+  ctx.summary.set("seeds.groups", double(groups.size()));
+  for (const auto& [name, values] : columns) {
+    std::string unit = "1", doc = "swept key of the group";
+    for (const Observable& o : observables) {
+      const std::string k = o.key;
+      if (name == k) unit = o.unit, doc = std::string(o.doc) + ": mean over the seeds";
+      if (name == k + "_err")
+        unit = o.unit, doc = std::string(o.doc) + ": between-seed standard error s/sqrt(N)";
+      if (name == k + "_within_err")
+        unit = o.unit, doc = std::string(o.doc) + ": per-run errors alone, rms/sqrt(N)";
+      if (name == k + "_scatter_ratio") doc = std::string(o.doc) + ": between-seed / per-run";
+    }
+    if (name == "seeds") doc = "seeds with a steady value";
+    ctx.result.write("/seeds/" + name, values, unit, doc);
+  }
+  ctx.result.flush();
+}
+
+}  // namespace granflow::dem
