@@ -176,6 +176,10 @@ void Solver::initialize() {
   }
   nodes_.porosity.assign(nn_, 1.0);
   div_solid_.assign(liquid_.size(), 0.0);
+  // Ergun's inertial drag needs |u_L - u_S| at the liquid points; nothing is stored without it.
+  forchheimer_ = liquid_options_.drag_law == DragLaw::closure &&
+                 liquid_options_.closure.permeability == model::PermeabilityKind::ergun;
+  relative_speed_.assign(forchheimer_ ? liquid_.size() : 0, 0.0);
   volumetric_rate_.assign(liquid_.size(), 0.0);
   pressure_change_.assign(options_.pressure_relaxation_time > 0.0 ? liquid_.size() : 0, 0.0);
   point_conductivity_.assign(options_.material_conductivity ? solid_.size() : 0, 0.0);
@@ -325,12 +329,19 @@ double Solver::viscosity_at(double nu) const {
   return model::mixture_viscosity(liquid_options_.closure, std::max(nu, 0.0));
 }
 
-double Solver::drag_at(double n) const {
+double Solver::drag_at(double n, long p) const {
   if (n >= 1.0 - 1e-12) return 0.0;  // no solid: nothing to drag against
   if (liquid_options_.drag_law == DragLaw::darcy) {
     // Darcy: n (v_L - v_S) = -(k_D/γ_w) ∇p  =>  β = n² γ_w / k_D
     return n * n * liquid_options_.density * liquid_options_.darcy_gravity /
            liquid_options_.hydraulic_conductivity;
+  }
+  if (forchheimer_) {
+    // Ergun (1952) with its inertial term: -∇p = (η0/κ) q + c_F |q| q, q = n (u_L - u_S), so
+    // β = η0 n / κ + c_F n² |u_L - u_S| (model::drag_coefficient_with_inertia), with the
+    // relative speed of the last velocity-gradient pass (lagged by one step).
+    return model::drag_coefficient_with_inertia(
+        liquid_options_.closure, liquid_options_.grain_diameter, 1.0 - n, relative_speed_[p]);
   }
   return model::drag_coefficient(liquid_options_.closure, liquid_options_.grain_diameter, 1.0 - n);
 }
@@ -805,7 +816,7 @@ void Solver::update_points_part(const G& grid, int t, bool remap) {
     for (std::size_t p = b; p < e; ++p) {
       if (!locate<G, S>(grid, phase, p, st)) continue;  // reported by the first map
       double vpx = 0, vpy = 0, apx = 0, apy = 0, Lxx = 0, Lxy = 0, Lyx = 0, Lyy = 0;
-      double div_s = 0, n_at = 0;
+      double div_s = 0, n_at = 0, wx = 0, wy = 0;
       for (int k = 0; k < st.count; ++k) {
         const int a = st.node[k];
         const double N = st.N[k];
@@ -821,6 +832,10 @@ void Solver::update_points_part(const G& grid, int t, bool remap) {
           if (extras) {
             div_s += st.dNdx[k] * nodes_.vx_solid[a] + st.dNdy[k] * nodes_.vy_solid[a];
             n_at += N * porosity_[a];
+            if (forchheimer_) {
+              wx += N * (vx[a] - nodes_.vx_solid[a]);
+              wy += N * (vy[a] - nodes_.vy_solid[a]);
+            }
           }
         }
       }
@@ -833,7 +848,10 @@ void Solver::update_points_part(const G& grid, int t, bool remap) {
       // the shape functions of the start-of-step configuration.
       dx[p] = dt * vpx;
       dy[p] = dt * vpy;
-      if (usl) store_gradient(pts, p, Lxx, Lxy, Lyx, Lyy, extras, div_s, n_at, st.node[0]);
+      if (usl) {
+        store_gradient(pts, p, Lxx, Lxy, Lyx, Lyy, extras, div_s, n_at, st.node[0]);
+        if (extras && forchheimer_) relative_speed_[p] = std::hypot(wx, wy);
+      }
       if (remap) {  // MUSL: m_a = Σ N m, (m v)_a = Σ N m v_new
         if (T > 1) span.add<G>(st);
         const double mi = pts.mass[p] * s, mvx = mi * vx_new, mvy = mi * vy_new;
@@ -903,7 +921,7 @@ void Solver::velocity_gradients_part(const G& grid, int t, bool liquid_extras) {
     Stencil st{};
     for (std::size_t p = b; p < e; ++p) {
       if (!locate<G, S>(grid, phase, p, st)) continue;
-      double Lxx = 0, Lxy = 0, Lyx = 0, Lyy = 0, div_s = 0, n_at = 0;
+      double Lxx = 0, Lxy = 0, Lyx = 0, Lyy = 0, div_s = 0, n_at = 0, wx = 0, wy = 0;
       for (int k = 0; k < st.count; ++k) {
         const int a = st.node[k];
         Lxx += st.dNdx[k] * vx[a];
@@ -913,10 +931,15 @@ void Solver::velocity_gradients_part(const G& grid, int t, bool liquid_extras) {
         if (extras) {
           div_s += st.dNdx[k] * nodes_.vx_solid[a] + st.dNdy[k] * nodes_.vy_solid[a];
           n_at += st.N[k] * porosity_[a];
+          if (forchheimer_) {
+            wx += st.N[k] * (vx[a] - nodes_.vx_solid[a]);
+            wy += st.N[k] * (vy[a] - nodes_.vy_solid[a]);
+          }
         }
       }
       store_gradient(pts, static_cast<long>(p), Lxx, Lxy, Lyx, Lyy, extras, div_s, n_at,
                      st.node[0]);
+      if (extras && forchheimer_) relative_speed_[p] = std::hypot(wx, wy);
     }
   };
   grad(solid_, nodes_.vx_solid.data(), nodes_.vy_solid.data(), false);
@@ -1124,7 +1147,7 @@ void Solver::refresh_liquid_state() {
   for (std::size_t p = 0; p < liquid_.size(); ++p) {
     const double n = liquid_.porosity[p];
     liquid_.volume[p] = liquid_.mass[p] / (n * rho0 * std::exp(liquid_.pressure[p] / K));
-    liquid_.drag[p] = drag_at(n);
+    liquid_.drag[p] = drag_at(n, static_cast<long>(p));
   }
 }
 
@@ -1187,7 +1210,7 @@ void Solver::constitutive_update(bool move) {
       liquid_.tzz[p] = -2.0 * eta * third;
       liquid_.txy[p] = eta * (liquid_.Lxy[p] + liquid_.Lyx[p]);
     }
-    liquid_.drag[p] = drag_at(n);
+    liquid_.drag[p] = drag_at(n, static_cast<long>(p));
     const double check = liquid_.pressure[p] + liquid_.txy[p] + liquid_.vx[p] + liquid_.vy[p] +
                          liquid_.x[p] + liquid_.y[p];
     if (move) {

@@ -64,7 +64,7 @@ struct SolverOptions {
   // Conduct T with the conductivity each material reports per point (StressUpdateView::
   // conductivity; the multi-regime material: ρ_p d f4 T^½) instead of the constant above.
   bool material_conductivity = false;
-  bool liquid_volumetric_smoothing = false;  // cell-averaged volumetric rate for p (linear)
+  bool liquid_volumetric_smoothing = false;  // cell-averaged rate, cell-constant p (linear)
   // t_p, s (> 0: on; linear shapes): the pore pressure relaxes towards its nodal average at the
   // rate 1/t_p, which removes the cell-to-cell checkerboard of p (Solver::relax_pressure).
   double pressure_relaxation_time = 0.0;
@@ -212,10 +212,10 @@ class Solver {
   // reproducible for a thread count (unlike an OpenMP reduction's arrival order).
   template <class PointValue>
   std::pair<double, double> liquid_volume_sums(PointValue&& value);
-  void move_points();                    // x += Δx of the step, at its end
-  void throw_if_lost() const;            // a point that the last map found outside the grid
-  double viscosity_at(double nu) const;  // η(ν)
-  double drag_at(double n) const;        // β(n)
+  void move_points();                      // x += Δx of the step, at its end
+  void throw_if_lost() const;              // a point that the last map found outside the grid
+  double viscosity_at(double nu) const;    // η(ν)
+  double drag_at(double n, long p) const;  // β(n) of liquid point p (and |u_L - u_S| if Ergun)
   void apply_conditions(Phase phase, double* vx, double* vy, int begin, int end) const;
   TimeStepLimits compute_limits() const;
   void update_dt();
@@ -267,7 +267,9 @@ class Solver {
   std::vector<ThreadSlot> slots_;
   // nodal solution
   std::vector<double> asx_, asy_, alx_, aly_, porosity_;
-  std::vector<double> div_solid_;  // tr(D_S) at the liquid points
+  std::vector<double> div_solid_;       // tr(D_S) at the liquid points
+  bool forchheimer_ = false;            // Ergun's inertial drag term is active
+  std::vector<double> relative_speed_;  // |u_L - u_S| at the liquid points (Ergun only)
   std::vector<double> volumetric_rate_;
   std::vector<double> pressure_change_;  // Δp of relax_pressure per liquid point
   std::vector<int> liquid_cell_;
