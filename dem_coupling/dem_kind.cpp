@@ -158,6 +158,15 @@ core::Schema shear_schema() {
   auto& strain = s.section("strain", "shear strain to run and sample");
   strain.number("total", "", "shear strain of the run").default_value("20").greater_than(0);
   strain.number("sample", "", "shear strain between samples").default_value("0.01").greater_than(0);
+  auto& statistics = s.section("statistics", "error bars that include the sample variability");
+  statistics
+      .integer("seeds",
+               "runs every condition with dem.seed, dem.seed + 1, ..., dem.seed + N - 1 and "
+               "reports the mean over the seeds with its between-seed standard error (seeds.* in "
+               "summary.json, /seeds in result.h5; as a sweep over dem.seed); 1: one run")
+      .default_value("1")
+      .at_least(1)
+      .at_most(64);
   auto& output = s.section("output", "what is written");
   output.integer("profile_bins", "y bins of the mean velocity profile")
       .default_value("10")
@@ -276,6 +285,14 @@ void check_shear(const core::Case& sweep_case) {
       c.fail("material.normal_stiffness",
              "missing required key for contact_law: hooke; expected k_n > 0 [N/m]");
     const ShearDeckParams p = read_shear_params(c);
+    const long seeds = c.integer("statistics.seeds");
+    if (seeds > 1) {
+      for (const auto& [key, value] : c.condition())
+        if (key == "dem.seed")
+          c.fail("statistics.seeds", "1 when dem.seed is swept (the sweep is the seeds already)");
+      if (c.integer("dem.seed") > 2147483647L - (seeds - 1))
+        c.fail("statistics.seeds", "dem.seed + statistics.seeds - 1 <= 2147483647");
+    }
     for (const auto& [path, expected] : check_shear_params(p)) c.fail(path, expected);
     check_run_length(c, p);
   }
@@ -291,8 +308,27 @@ double dt_limit_index(const std::string& name) {
 }
 
 int run_shear(core::RunContext& ctx) {
-  const auto conditions = ctx.run_case.expand_sweep();
-  const bool sweep = ctx.run_case.is_sweep();
+  // statistics.seeds = N > 1: every condition of the case runs N times, with dem.seed + k
+  // (k = 0 ... N - 1), as if dem.seed were swept last (point n N + k); `swept` holds each run's
+  // swept keys, dem.seed included.
+  const auto base = ctx.run_case.expand_sweep();
+  const auto seeds = static_cast<std::size_t>(ctx.run_case.integer("statistics.seeds"));
+  std::vector<core::Case> conditions;
+  std::vector<Condition> swept;
+  std::vector<long> seed_of;
+  for (const core::Case& c : base)
+    for (std::size_t k = 0; k < seeds; ++k) {
+      conditions.push_back(c);
+      swept.push_back(c.condition());
+      seed_of.push_back(c.integer("dem.seed") + long(k));
+      if (seeds > 1) swept.back().emplace_back("dem.seed", double(seed_of.back()));
+    }
+  auto params_of = [&](std::size_t n) {
+    ShearDeckParams p = read_shear_params(conditions[n]);
+    p.seed = static_cast<unsigned long>(seed_of[n]);
+    return p;
+  };
+  const bool sweep = ctx.run_case.is_sweep() || seeds > 1;
   core::Progress progress(ctx.log, "DEM conditions", double(conditions.size()));
   std::vector<PointResult> results;
   double total_particle_steps = 0.0, total_dem_wall = 0.0;
@@ -305,13 +341,12 @@ int run_shear(core::RunContext& ctx) {
   };
   auto label_of = [&](std::size_t n) {
     std::string label = sweep ? fmt::format("point {}", n) : std::string("DEM shear");
-    for (const auto& [key, value] : conditions[n].condition())
-      label += fmt::format(" {}={:g}", key, value);
+    for (const auto& [key, value] : swept[n]) label += fmt::format(" {}={:g}", key, value);
     return label;
   };
   auto compute = [&](const core::ConditionContext& cc) {
     const core::Case& c = conditions[cc.index];
-    const ShearDeckParams p = read_shear_params(c);
+    const ShearDeckParams p = params_of(cc.index);
     const ShearDeck deck = make_shear_deck(p, "particles.data");
     const std::filesystem::path dir = point_dir(cc.run_directory, cc.index);
     std::filesystem::create_directories(dir);
@@ -365,8 +400,7 @@ int run_shear(core::RunContext& ctx) {
     return core::Packer().integer(status).number(wall).take();
   };
   auto absorb = [&](std::size_t n, const std::string& bytes) {
-    const core::Case& c = conditions[n];
-    const ShearDeckParams p = read_shear_params(c);
+    const ShearDeckParams p = params_of(n);
     const ShearDeck deck = make_shear_deck(p, "particles.data");
     const std::filesystem::path dir = point_dir(ctx.directory.path(), n);
     const std::string label = label_of(n);
@@ -379,7 +413,7 @@ int run_shear(core::RunContext& ctx) {
     r.steps = double(deck.total_steps + deck.compression_steps);
     r.particle_steps_per_s = r.particles * r.steps / wall;
     if (sweep)
-      for (const auto& [key, value] : c.condition()) ctx.result.attribute(group, key, value);
+      for (const auto& [key, value] : swept[n]) ctx.result.attribute(group, key, value);
     if (status != 0 && core::interrupted()) {
       ctx.log->warn(
           "{}: stopped by {} (granflow-dem status {}); the samples written so far are "
@@ -500,7 +534,7 @@ int run_shear(core::RunContext& ctx) {
     for (const Column& col : wet_columns) write_column(col);
   std::vector<double> rate, friction_p, target, dt, wall;
   for (std::size_t n = 0; n < results.size(); ++n) {
-    const ShearDeckParams p = read_shear_params(conditions[n]);
+    const ShearDeckParams p = params_of(n);
     rate.push_back(p.shear_rate);
     friction_p.push_back(p.material.particle_friction);
     target.push_back(p.constant_pressure ? p.normal_stress : p.solid_fraction);
@@ -521,8 +555,6 @@ int run_shear(core::RunContext& ctx) {
   out.attribute("/steady", "schema", "granflow DEM dataset v1 (docs/dem_dataset.md)");
   out.flush();
   // A sweep over dem.seed: means over the seeds with between-seed errors (/seeds, seeds.*).
-  std::vector<Condition> swept;
-  for (const core::Case& c : conditions) swept.push_back(c.condition());
   write_seed_statistics(ctx, group_by_seed(swept), results);
 
   if (!results.empty()) {

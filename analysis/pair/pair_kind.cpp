@@ -185,7 +185,8 @@ core::Schema pair_schema() {
       "DEM (kind: dem, LIGGGHTS) and continuum steady simple shear at the same conditions from "
       "one material description; side-by-side table with relative errors and regimes.");
   const core::Schema dem = dem::shear_schema();
-  const std::set<std::string> header = {"kind", "test", "name", "description"};
+  // statistics.seeds stays out: the pair table has one DEM point per condition.
+  const std::set<std::string> header = {"kind", "test", "name", "description", "statistics"};
   for (const auto& child : dem.children())
     if (!header.count(child.key())) s.add(child);
   s.add(continuum::collisional_section());

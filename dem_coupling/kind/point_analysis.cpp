@@ -188,8 +188,9 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
   const SteadyCheck check = check_steady(t, start, residual);
   v["reached"] = check.reached ? 1.0 : 0.0;
   v["drift_max"] = check.worst;
-  for (const auto& [name, z] : check.drift) {
-    if (std::isfinite(z)) v["drift." + name] = z;
+  for (const auto& [key, z] : check.drift) {
+    if (std::isfinite(z)) v["drift." + key] = z;
+    const std::string name = key == "p" ? "σ_yy (p)" : key == "p_mean" ? "tr(P)/3 (p_mean)" : key;
     if (!std::isfinite(z))
       r.warnings.push_back(fmt::format(
           "NOT steady: the window from strain {:.3g} is too short to test {} for a drift",

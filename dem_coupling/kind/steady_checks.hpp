@@ -1,8 +1,9 @@
 // Is the steady window of a DEM point steady, and is it at the imposed normal stress?
 // Header-only (used by dem_kind.cpp's analyse_point; the statistics are analysis/steady_state).
 //
-// Drift: every reported observable (σ_yy, τ, p = tr(P)/3, φ, e, T, Z, and μ through the linearised
-// residual τ − μ σ_yy whose error is μ's) is cut into the two halves of the window
+// Drift: every reported observable (named as the steady.* keys: p = σ_yy, tau, p_mean = tr(P)/3,
+// phi, e, T, Z, and mu through the linearised residual τ − μ σ_yy whose error is μ's) is cut
+// into the two halves of the window
 // series[start:]; z = (mean_2 − mean_1) / combined standard error (analysis::drift_test). The
 // window is steady when every |z| <= 3 (max_drift): a stationary window fails on one observable
 // with probability ~0.25 % (tests/analysis/test_correlated_error.cpp), on any of the eight
@@ -46,8 +47,12 @@ inline SteadyCheck check_steady(const SeriesTable& t, std::size_t start,
       c.worst_name = name;
     }
   };
-  for (const char* name : {"sigma_yy", "tau", "p", "phi", "e", "T", "Z"})
-    if (t.columns.count(name)) test(name, t.at(name));
+  // Named as the steady.* keys: p is σ_yy (series sigma_yy), p_mean is tr(P)/3 (series p).
+  constexpr std::pair<const char*, const char*> observables[] = {
+      {"sigma_yy", "p"}, {"tau", "tau"}, {"p", "p_mean"}, {"phi", "phi"},
+      {"e", "e"},        {"T", "T"},     {"Z", "Z"}};
+  for (const auto& [column, name] : observables)
+    if (t.columns.count(column)) test(name, t.at(column));
   test("mu", mu_residual);
   return c;
 }

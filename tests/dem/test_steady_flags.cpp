@@ -1,5 +1,6 @@
 // End to end (granflow run -> granflow-dem -> LIGGGHTS): the steady checks of a DEM point
-// (dem_coupling/kind/steady_checks.hpp) and the servo's mean σ_yy on the target. 300 dry Hertz
+// (dem_coupling/kind/steady_checks.hpp), the servo's mean σ_yy on the target and the seed
+// statistics of statistics.seeds (dem_coupling/kind/seed_statistics.hpp). 300 dry Hertz
 // spheres of cases/dem/dry_point.yaml (bidisperse, μ_p 0.5, e 0.7, σ_yy 100 Pa, γ̇ 20 1/s, I ~0.1),
 // one rank: ~5 and ~10 s.
 #include <fmt/format.h>
@@ -76,6 +77,32 @@ TEST(DemSteadyFlags, TheServoHoldsTheMeanNormalStressOnTheTarget) {
   EXPECT_EQ(summary.get("steady.normal_stress_on_target"), 1.0);
   EXPECT_EQ(summary.get("steady.reached"), 1.0);
   EXPECT_LE(summary.get("steady.drift_max"), 3.0);
+}
+
+TEST(DemSteadyFlags, SeedsOptionRunsEverySeedAndCombinesThem) {
+  // statistics.seeds: 2 runs dem.seed 5 and 6 as points 0 and 1 and combines them: for two
+  // values the mean is (a + b)/2 and the between-seed standard error s/√2 = |a − b|/2 (exact
+  // arithmetic, to the round-off of summary.json's 17 digits).
+  const auto dir = fresh_directory("steady_flags_seeds");
+  ASSERT_EQ(run_cli(point_case() + " --set strain.total=1.5 --set dem.seed=5 --set "
+                                   "statistics.seeds=2",
+                    dir),
+            0)
+      << read(dir / "cli.txt");
+  const auto summary = granflow::core::Summary::read(dir / "run" / "summary.json");
+  EXPECT_EQ(summary.get("sweep.count"), 2.0);
+  EXPECT_EQ(summary.get("seeds.count.0"), 2.0);
+  EXPECT_TRUE(std::filesystem::exists(dir / "run" / "point_1" / "in.granflow"));
+  EXPECT_NE(read(dir / "run" / "point_1" / "particles.data").find("seed 6"), std::string::npos);
+  for (const char* name : {"mu", "phi", "p", "T"}) {
+    const double a = summary.get(fmt::format("steady.{}.0", name));
+    const double b = summary.get(fmt::format("steady.{}.1", name));
+    EXPECT_NEAR(summary.get(fmt::format("seeds.{}.0", name)), 0.5 * (a + b), 1e-12 * std::abs(a))
+        << name;
+    EXPECT_NEAR(summary.get(fmt::format("seeds.{}_err.0", name)), 0.5 * std::abs(a - b),
+                1e-12 * std::abs(a))
+        << name;
+  }
 }
 
 }  // namespace
