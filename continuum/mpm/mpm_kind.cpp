@@ -721,6 +721,17 @@ core::Schema rheometer_schema() {
   s.add(continuum::force_chains_section());
   s.add(continuum::collisional_section());
   s.add(continuum::liquid_section());
+  auto& sl = s.section("solid", "internal length of the skeleton's softening (docs/rheometer.md)");
+  sl.number("internal_length", "m",
+            "ℓ of the non-local average of the locus softening, w = exp(-(r/ℓ)²) over 2.5 ℓ "
+            "(Bažant & Jirásek 2002); 0 = local model")
+      .default_value("0")
+      .at_least(0);
+  sl.number("overnonlocal", "1",
+            "m of r_c ← r_c (1 + m δ̄ + (1 − m) δ): 1 non-local, > 1 over-nonlocal (Vermeer & "
+            "Brinkgreve 1994; m = 1 still localizes into one spacing, docs/rheometer.md)")
+      .default_value("2")
+      .at_least(1);
   auto& i = s.section("initial", "state after the drained isotropic consolidation (phase i)");
   i.number("void_ratio", "1", "e0").default_value("0.818").greater_than(0);
   i.number("effective_pressure", "Pa", "p'0 (σ_FC = p'0 I)").default_value("50.0e3").at_least(0);
@@ -828,6 +839,8 @@ int run_rheometer(core::RunContext& ctx) {
   const RheometerSpec spec = read_rheometer(c);
   rheometer_inputs(c);
   Rheometer rh = make_rheometer(spec);
+  rh.material->set_internal_length(c.number("solid.internal_length"),
+                                   c.number("solid.overnonlocal"));
   Solver& s = *rh.solver;
   RunHistory history = restore_run(ctx, s);
   report_setup(ctx, s, history);

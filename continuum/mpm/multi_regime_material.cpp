@@ -46,6 +46,14 @@ void MultiRegimeMaterial::attach(std::size_t begin, std::size_t end) {
     a->assign(n, 0.0);
 }
 
+void MultiRegimeMaterial::set_internal_length(double length, double overnonlocal) {
+  if (!(length >= 0) || !(overnonlocal >= 1))
+    throw std::invalid_argument("multi_regime: need internal length >= 0, overnonlocal >= 1");
+  overnonlocal_ = overnonlocal;
+  nonlocal_.reset();
+  if (length > 0) nonlocal_ = std::make_unique<NonlocalAverage>(length);
+}
+
 void MultiRegimeMaterial::initialize(SolidPoints& s) {
   for (std::size_t p = begin_; p < end_; ++p) {
     const std::size_t k = p - begin_;
@@ -87,6 +95,7 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
   long bad = -1;
   double max_p = 0.0;
   long clamped = 0;
+  if (nonlocal_) r_c_start_.assign(r_c_.begin(), r_c_.end());
 #pragma omp parallel for schedule(dynamic, 64) num_threads(v.threads) if (v.threads > 1) \
     reduction(max : bad, max_p) reduction(+ : clamped)
   for (long p = b; p < e; ++p) {
@@ -165,6 +174,42 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
                                     "T = {:.4g} m²/s²; ν outside the closures' range, or NaN)",
                                     v.porosity[bad], r_c_[k], v.temperature[bad]));
   }
+  if (nonlocal_) average_softening(v);
+}
+
+// Non-local softening of the locus (ℓ > 0). The softening variable of the force chains is the
+// locus size: dr_c = (r_c/b_p)[dε^p_v + ξ(ψ) dε^p_q] (docs/rheometer.md, "The force-chain
+// hardening law"), i.e. d ln r_c = dκ with the plastic-strain measure dκ = (dε^p_v + ξ dε^p_q)/b_p,
+// whose deviatoric part softens a loose skeleton (ξ < 0) and localizes it into bands of the cell
+// width. Non-local plasticity replaces κ by its average over ℓ (Bažant & Jirásek 2002, Eq. 1-3
+// and §4.1); over-nonlocal (Vermeer & Brinkgreve 1994): κ̂ = m κ̄ + (1 − m) κ. Explicitly, per
+// step, with the local update's relative increment δ_i = Δr_c,i / r_c,i (= Δκ_i to O(Δκ²)):
+//
+//   r_c,i ← r_c,i^start (1 + m δ̄_i + (1 − m) δ_i),   δ̄_i = Σ_j α_ij δ_j (nonlocal_average.hpp),
+//
+// over the points with a locus at the start of the step (r_c > 0; a fluidized point has no
+// plastic flow and regrows its locus locally). The stress was returned to the local locus; the
+// next step's return mapping starts from the non-local one (a point whose locus shrank is
+// projected back, one whose locus grew unloads elastically): the explicit, one-step-lagged form
+// of the non-local consistency condition, as in explicit MPM (Burghardt, Brannon & Guilkey 2012).
+void MultiRegimeMaterial::average_softening(const StressUpdateView& v) {
+  if (!v.x || !v.y || !v.volume)
+    throw std::logic_error("multi_regime: internal length set, but no point positions in the view");
+  const std::size_t n = end_ - begin_;
+  softening_.resize(n);
+  softening_average_.resize(n);
+  has_locus_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    has_locus_[k] = r_c_start_[k] > 0.0;
+    softening_[k] = has_locus_[k] ? (r_c_[k] - r_c_start_[k]) / r_c_start_[k] : 0.0;
+  }
+  nonlocal_->update(v.x + begin_, v.y + begin_, v.volume + begin_, n, v.threads);
+  nonlocal_->average(softening_.data(), has_locus_.data(), softening_average_.data(), v.threads);
+  const double m = overnonlocal_;
+  for (std::size_t k = 0; k < n; ++k)
+    if (has_locus_[k])
+      r_c_[k] = std::max(
+          r_c_start_[k] * (1.0 + m * softening_average_[k] + (1.0 - m) * softening_[k]), 0.0);
 }
 
 std::vector<std::pair<std::string, std::vector<double>*>> MultiRegimeMaterial::state() {

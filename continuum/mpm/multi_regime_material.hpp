@@ -14,14 +14,20 @@
 //    solver's own volume update to O(dt²);
 //  * objectivity: σ_FC and χ are rotated with the spin W (Jaumann) before the update, as the
 //    linear elastic material does;
-//  * plane strain: ε̇_zz = 0, the zz components evolve with the model.
+//  * plane strain: ε̇_zz = 0, the zz components evolve with the model;
+//  * internal length (set_internal_length, ℓ > 0): the softening of the locus is averaged
+//    non-locally over ℓ (update_stress, multi_regime_material.cpp; nonlocal_average.hpp); ℓ = 0
+//    (the default) is the local model, bit for bit, at no cost.
 #pragma once
 
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "continuum/mpm/material_points.hpp"
+#include "continuum/mpm/nonlocal_average.hpp"
 #include "continuum/mpm/solid_material.hpp"
 #include "continuum/multi_regime/multi_regime_point.hpp"
 
@@ -52,6 +58,14 @@ class MultiRegimeMaterial final : public SolidMaterial {
   void initialize(SolidPoints& points);
   void update_stress(const StressUpdateView& view, double dt) override;
   std::vector<std::pair<std::string, std::vector<double>*>> state() override;
+  // Internal length ℓ (m) of the non-local softening and the over-nonlocal factor m (1: plain
+  // non-local average, which still lets the softening localize into one point spacing; 2: the
+  // over-nonlocal form of Vermeer & Brinkgreve 1994, a zone width ∝ ℓ, tests/mpm
+  // test_mpm_nonlocal); ℓ = 0 switches it off. The solver must pass the point positions and
+  // volumes in the view (StressUpdateView::x, y, volume).
+  void set_internal_length(double length, double overnonlocal = 2.0);
+  double internal_length() const { return nonlocal_ ? nonlocal_->length() : 0.0; }
+  const NonlocalAverage* nonlocal() const { return nonlocal_.get(); }
 
   const continuum::MultiRegimePoint& point() const { return point_; }
   // Per point (index - begin): r_c (Pa), e, σ_FC and σ_COL means (Pa), shear rate γ̇ (1/s).
@@ -76,6 +90,13 @@ class MultiRegimeMaterial final : public SolidMaterial {
   double max_effective_pressure_ = 0.0;
   double solid_fraction_limit_ = 0.74;  // ν_lim: below ν_c and the η(ν) maximum packing
   long clamped_updates_ = 0;
+  // non-local softening (ℓ > 0 only): r_c at the start of the step, relative increment of the
+  // local update, its average, and which points have a locus (r_c > 0)
+  std::unique_ptr<NonlocalAverage> nonlocal_;
+  double overnonlocal_ = 2.0;
+  std::vector<double> r_c_start_, softening_, softening_average_;
+  std::vector<std::uint8_t> has_locus_;
+  void average_softening(const StressUpdateView& view);
 };
 
 // Adds "multi_regime" to a registry with the given model settings. Parameters (SI):

@@ -30,6 +30,11 @@ struct StressUpdateView {
   // Conductivity κ_T of q = -κ_T ∇T per point, kg/(m s), written by a material with a T
   // equation when the solver conducts T with material conductivities; nullptr otherwise.
   double* conductivity = nullptr;
+  // Point positions (m) and mixture volumes V (m²) at the stress update, for a material with
+  // a non-local (internal length) law; nullptr when the solver does not pass them.
+  const double* x = nullptr;
+  const double* y = nullptr;
+  const double* volume = nullptr;
 };
 
 class SolidMaterial {

@@ -1165,7 +1165,10 @@ void Solver::constitutive_update(bool move) {
                         solid_.szz.data(),
                         solid_.sxy.data(),
                         threads_,
-                        options_.material_conductivity ? point_conductivity_.data() : nullptr};
+                        options_.material_conductivity ? point_conductivity_.data() : nullptr,
+                        solid_.x.data(),
+                        solid_.y.data(),
+                        solid_.volume.data()};
   for (auto& m : materials_) m->update_stress(view, dt);
   const long ns = static_cast<long>(solid_.size());
   const long nl = static_cast<long>(liquid_.size());
