@@ -1,7 +1,9 @@
-// Particle and grid fields per output step: fields/step_NNNNNN.h5 (HDF5) with a matching
-// step_NNNNNN.xmf (XDMF 2) that ParaView opens (solid points, liquid points and the background
-// grid as three grids), plus fields/fields.xmf, the temporal collection of all steps written so
-// far.
+// Particle and grid fields per output step: fields/step_NNNNNNNN.h5 (HDF5; every dataset carries
+// its `unit`) and three XDMF 3 time series that ParaView's default reader and meshio's
+// TimeSeriesReader open: fields/solid.xmf and fields/liquid.xmf (material points as Polyvertex
+// cells with an explicit connectivity, velocity as a vector, the solid stress as a tensor) and
+// fields/grid.xmf (the background grid). Each series is rewritten whole after every frame, so it
+// always lists the frames written so far.
 #pragma once
 
 #include <filesystem>
@@ -21,15 +23,21 @@ class FieldWriter {
   int written() const { return static_cast<int>(times_.size()); }
   // Extra per-solid-point fields written with every frame (e.g. a material's r_c, the strain);
   // each vector must have one value per solid point when write() is called.
-  void add_solid_field(std::string name, const std::vector<double>* values) {
-    extra_solid_.emplace_back(std::move(name), values);
+  void add_solid_field(std::string name, const std::vector<double>* values, std::string unit) {
+    extra_solid_.push_back({std::move(name), values, std::move(unit)});
   }
 
  private:
+  struct Extra {
+    std::string name;
+    const std::vector<double>* values;
+    std::string unit;
+  };
   std::filesystem::path dir_;
   std::vector<double> times_;
-  std::vector<std::string> names_;
-  std::vector<std::pair<std::string, const std::vector<double>*>> extra_solid_;
+  // The <Grid> element of every frame written so far, per series (solid, liquid, grid).
+  std::vector<std::string> frames_[3];
+  std::vector<Extra> extra_solid_;
 };
 
 }  // namespace granflow::mpm

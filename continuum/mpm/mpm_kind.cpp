@@ -866,9 +866,9 @@ int run_rheometer(core::RunContext& ctx) {
       M_PI * (spec.outer_radius * spec.outer_radius - spec.inner_radius * spec.inner_radius));
   auto fields = field_writer(ctx);
   if (fields) {
-    fields->add_solid_field("r_c", &rh.material->locus_size());
-    fields->add_solid_field("void_ratio", &rh.material->void_ratio());
-    fields->add_solid_field("shear_strain", &gamma);
+    fields->add_solid_field("r_c", &rh.material->locus_size(), "Pa");
+    fields->add_solid_field("void_ratio", &rh.material->void_ratio(), "1");
+    fields->add_solid_field("shear_strain", &gamma, "1");
   }
   const int frames = static_cast<int>(c.integer("output.frames"));
   const double end_time = c.number("run.end_time");

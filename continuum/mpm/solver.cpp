@@ -242,7 +242,45 @@ void Solver::initialize() {
         grid_);
     refresh_liquid_state();
   }
+  store_start_nodes();
   update_dt();
+}
+
+// The nodal fields of the start (masses, porosity, velocities under the velocity conditions),
+// so that output before the first step shows the projected state rather than empty nodes. The
+// step recomputes all of them before it uses any.
+void Solver::store_start_nodes() {
+  if (liquid_.size() == 0) {  // a wet run was mapped above already
+    std::visit(
+        [&](const auto& g) {
+          using G = std::decay_t<decltype(g)>;
+          if constexpr (std::is_same_v<G, CartesianGrid>) {
+            if (options_.shape == ShapeKind::gimp) return map_first<G, ShapeKind::gimp>(g);
+          }
+          map_first<G, ShapeKind::linear>(g);
+        },
+        grid_);
+  }
+  const double s = options_.mass_scaling;
+  const double* A = acc_.data();
+  const int nn = nn_;
+  const bool wet = liquid_.size() > 0;
+  for (int a = 0; a < nn; ++a) {
+    const double ms = A[MS * nn + a];
+    nodes_.mass_solid[a] = ms / s;
+    nodes_.porosity[a] =
+        ms / s > mass_floor_ ? std::clamp(A[NMS * nn + a] / (ms / s), 0.0, 1.0) : 1.0;
+    nodes_.vx_solid[a] = ms / s > mass_floor_ ? A[PXS * nn + a] / ms : 0.0;
+    nodes_.vy_solid[a] = ms / s > mass_floor_ ? A[PYS * nn + a] / ms : 0.0;
+    if (wet) {
+      const double ml = A[ML * nn + a];
+      nodes_.mass_liquid[a] = ml / s;
+      nodes_.vx_liquid[a] = ml / s > mass_floor_ ? A[PXL * nn + a] / ml : 0.0;
+      nodes_.vy_liquid[a] = ml / s > mass_floor_ ? A[PYL * nn + a] / ml : 0.0;
+    }
+  }
+  apply_conditions(Phase::solid, nodes_.vx_solid.data(), nodes_.vy_solid.data(), 0, nn);
+  if (wet) apply_conditions(Phase::liquid, nodes_.vx_liquid.data(), nodes_.vy_liquid.data(), 0, nn);
 }
 
 TimeStepLimits Solver::compute_limits() const {

@@ -206,7 +206,8 @@ class Solver {
   void refresh_liquid_state();
   template <class G>
   void relax_pressure(const G& grid);  // pore pressure towards its nodal average (t_p)
-  void cell_constant_pressure();       // liquid p ← its cell mean (with the smoothed rate)
+  void store_start_nodes();       // nodal fields of the start, for output before the first step
+  void cell_constant_pressure();  // liquid p ← its cell mean (with the smoothed rate)
   // Σ_p V_p x_p and Σ_p V_p over the liquid points whose value(p) gives an x_p (per-point work
   // may happen inside value); fixed chunks per thread added in thread order, so the result is
   // reproducible for a thread count (unlike an OpenMP reduction's arrival order).

@@ -33,7 +33,7 @@ core::Summary run_case(const std::string& file, const std::vector<std::string>& 
   core::RunContext ctx(c, dir, /*force=*/true, /*quiet=*/true);
   EXPECT_EQ(entry.run(ctx), core::exit_ok);
   ctx.finish();
-  EXPECT_TRUE(std::filesystem::exists(dir / "fields" / "fields.xmf"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "fields" / "solid.xmf"));
   return core::Summary::read(dir / "summary.json");
 }
 

@@ -2,15 +2,20 @@
 // names them, and a run restored from a checkpoint continues bit for bit like the uninterrupted
 // run (two-phase Terzaghi column, MUSL, semi-implicit drag).
 #include <H5Cpp.h>
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "continuum/mpm/checkpoint.hpp"
 #include "continuum/mpm/field_writer.hpp"
 #include "continuum/mpm/problems.hpp"
+#include "core/process.hpp"
+#include "core/run.hpp"
 
 using namespace granflow::mpm;
 
@@ -43,13 +48,44 @@ TEST(MpmOutput, FieldFilesHoldThePointArrays) {
   xy.getSpace().getSimpleExtentDims(d2);
   EXPECT_EQ(d2[0], s->solid().size());
   EXPECT_EQ(d2[1], 2u);
-  std::ifstream collection(dir / "fields.xmf");
-  std::stringstream text;
-  text << collection.rdbuf();
-  // Two time steps, each with solid, liquid and grid.
-  EXPECT_NE(text.str().find("step_00000020.h5:/liquid/pressure"), std::string::npos);
-  EXPECT_NE(text.str().find("step_00000025.h5:/grid/quads"), std::string::npos);
-  EXPECT_TRUE(std::filesystem::exists(dir / "step_00000025.xmf"));
+  // Three XDMF 3 series (solid, liquid, grid) with two frames each; no per-step XDMF.
+  for (const char* series : {"solid.xmf", "liquid.xmf", "grid.xmf"}) {
+    std::ifstream in(dir / series);
+    std::stringstream text;
+    text << in.rdbuf();
+    EXPECT_NE(text.str().find("step_00000020.h5:/"), std::string::npos) << series;
+    EXPECT_NE(text.str().find("step_00000025.h5:/"), std::string::npos) << series;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "step_00000025.xmf"));
+}
+
+// The series open in meshio (the reader of Python users; ParaView's default reader takes the same
+// XDMF 3): frame count and times, one vertex cell per point, quads for the grid, vector and tensor
+// shapes, the grid at t = 0 holding the projected mass, units on every HDF5 dataset.
+TEST(MpmOutput, XdmfSeriesOpenInMeshio) {
+  TerzaghiSpec t;
+  t.options.threads = 1;
+  auto s = make_terzaghi(t);
+  const auto dir = scratch("mpm_xdmf");
+  FieldWriter w(dir);
+  std::vector<std::string> argv = {granflow::core::python_interpreter(),
+                                   std::string(GRANFLOW_SOURCE_DIR) + "/tests/mpm/check_xdmf.py",
+                                   dir.string()};
+  std::vector<double> times;
+  for (int k = 0; k < 3; ++k) {
+    if (k) s->run_steps(10);
+    w.write(*s);
+    times.push_back(s->time());
+  }
+  const auto& grid = std::get<CartesianGrid>(s->grid());
+  const std::size_t nodes = static_cast<std::size_t>(grid.nodes()),
+                    cells = static_cast<std::size_t>(grid.cells_x() * grid.cells_y());
+  for (std::size_t n : {s->solid().size(), s->liquid().size(), nodes, cells})
+    argv.push_back(std::to_string(n));
+  for (double time : times) argv.push_back(fmt::format("{:.17g}", time));
+  const auto r = granflow::core::run_process(argv);
+  EXPECT_TRUE(r.ok()) << "check_xdmf.py: exit " << r.status << " " << r.error
+                      << " (python3-meshio and python3-h5py are dependencies)";
 }
 
 TEST(MpmOutput, RestartReproducesTheUninterruptedRunBitForBit) {
