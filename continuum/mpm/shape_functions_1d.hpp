@@ -16,7 +16,7 @@ inline HatValue linear_hat(double d, double h) {
   return {1.0 - a / h, (d > 0.0 ? -1.0 : 1.0) / h};
 }
 
-// Uniform GIMP (Bardenhagen & Kober 2004, J. Comput. Phys.; also Steffen, Kirby & Berzins 2008,
+// Uniform GIMP (Bardenhagen & Kober 2004, CMES 5, 477; also Steffen, Kirby & Berzins 2008,
 // Eq. 16) for a particle of half-length l <= h/2:
 //   |d| < l          : N = 1 - (d² + l²)/(2 h l),      dN/dx = -d/(h l)
 //   l <= |d| < h - l : N = 1 - |d|/h,                  dN/dx = -sign(d)/h
