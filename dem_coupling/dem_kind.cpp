@@ -21,6 +21,7 @@
 #include "dem_coupling/kind/mixed_number_fit.hpp"
 #include "dem_coupling/kind/point_analysis.hpp"
 #include "dem_coupling/kind/series_table.hpp"
+#include "dem_coupling/kind/shear_start_keys.hpp"
 
 namespace granflow::dem {
 
@@ -58,6 +59,7 @@ core::Schema shear_schema() {
               "k_n, k_t, as in Silbert et al. 2001); tangential history "
               "spring with Coulomb limit and damping from e in both")
       .default_value("hertz");
+  add_tangential_damping_key(material);
   material.number("normal_stiffness", "N/m", "hooke: normal spring k_n (required for hooke)")
       .greater_than(0);
   material.number("tangential_stiffness_ratio", "", "hooke: k_t / k_n")
@@ -133,6 +135,7 @@ core::Schema shear_schema() {
       .greater_than(0)
       .less_than(1)
       .sweepable();
+  add_initial_temperature_key(control);
   control.number("normal_stress", "Pa", "imposed normal stress σ_yy (constant_pressure)")
       .greater_than(0)
       .sweepable();
@@ -195,6 +198,7 @@ ShearDeckParams read_shear_params(const core::Case& c) {
   if (c.has("material.normal_stiffness"))
     m.normal_stiffness = c.number("material.normal_stiffness");
   m.tangential_stiffness_ratio = c.number("material.tangential_stiffness_ratio");
+  read_shear_start_keys(c, p);
   p.particles = c.integer("dem.particles");
   p.seed = static_cast<unsigned long>(c.integer("dem.seed"));
   p.dt_safety = c.number("dem.time_step_safety");
@@ -450,12 +454,12 @@ int run_shear(core::RunContext& ctx) {
     if (!r.values.empty())
       ctx.log->info(
           "{}: {} from strain {:.3g}: μ = {:.4f} ± {:.4f}, φ = {:.4f} ± {:.4f}, "
-          "σ_yy = {:.4g} ± {:.2g} Pa, T = {:.4g} m²/s², I = {:.4g}, Z = {:.3f}; {:.1f} s "
-          "({:.3g} particle-steps/s)",
+          "σ_yy = {:.4g} ± {:.2g} Pa, T = {:.4g} m²/s², I = {:.4g}, Z = {:.3f}, <δ>/d = {:.3g}; "
+          "{:.1f} s ({:.3g} particle-steps/s)",
           label, r.values["reached"] != 0.0 ? "steady" : "NOT steady (see the warnings)",
           r.values["start_strain"], r.values["mu"], r.values["mu_err"], r.values["phi"],
           r.values["phi_err"], r.values["p"], r.values["p_err"], r.values["T"], r.values["I"],
-          r.values["Z"], wall, r.particle_steps_per_s);
+          r.values["Z"], r.values["overlap"], wall, r.particle_steps_per_s);
     results.push_back(r);
     progress.update(double(n + 1));
   };

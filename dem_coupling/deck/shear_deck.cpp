@@ -10,13 +10,11 @@
 #include <random>
 #include <stdexcept>
 
+#include "dem_coupling/deck/initial_state.hpp"
+
 namespace granflow::dem {
 
 namespace {
-
-// Random close packing of monodisperse spheres; polydisperse packings reach a little more, but
-// a sheared sample above ~0.64 cannot exist (Berryman 1983; docs/dem_dataset.md).
-constexpr double max_solid_fraction = 0.64;
 
 // Uniform double in [0, 1) from the 53 high bits; mt19937_64 is fully specified by the C++
 // standard, so a seed gives the same sample on every platform.
@@ -74,33 +72,60 @@ FluidTimeStepInput fluid_step_input(const ShearDeckParams& p, const ShearDeck& t
 
 }  // namespace
 
+double tangential_damping_ratio(const DemMaterial& m) {
+  switch (m.tangential_damping) {
+    case TangentialDamping::none:
+      return 0.0;
+    case TangentialDamping::lammps_hooke_history:
+      return 0.5;
+    case TangentialDamping::liggghts:
+      break;
+  }
+  if (m.contact_law == ContactLaw::hooke) return 1.0;
+  // hertz: γ_t/γ_n = √(S_t/S_n), S_t/S_n = 8 G* / (2 E*) = 2 (1-ν)/(2-ν) for like spheres
+  // (G* = E / (4 (2-ν)(1+ν)), E* = E / (2 (1-ν²)); normal_model_hertz.h of LIGGGHTS 3.8.0)
+  const double nu = m.poisson_ratio;
+  return std::sqrt(2.0 * (1.0 - nu) / (2.0 - nu));
+}
+
 std::string contact_law_commands(const DemMaterial& m, double mean_diameter) {
   const std::string friction =
       fmt::format("fix m4 all property/global coefficientFriction peratomtypepair 1 {:.17g}\n",
                   m.particle_friction);
+  const bool damping_off = m.tangential_damping == TangentialDamping::none;
   if (m.contact_law == ContactLaw::hertz)
     return fmt::format(
         "fix m1 all property/global youngsModulus peratomtype {:.17g}\n"
         "fix m2 all property/global poissonsRatio peratomtype {:.17g}\n"
         "fix m3 all property/global coefficientRestitution peratomtypepair 1 {:.17g}\n{}"
-        "pair_style      gran model hertz tangential history\npair_coeff      * *\n",
-        m.youngs_modulus, m.poisson_ratio, m.restitution, friction);
-  // hooke/stiffness without absolute_damping: the damping force is m* gamman v_n, so gamman is
-  // the damping rate γ_n/m* (1/s) of a pair of mean-diameter spheres (contact_time.hpp); the
-  // tangential dashpot has the same rate (LIGGGHTS' tangential_damping, on as for hertz).
+        "# tangential dashpot: {} (gamma_t/gamma_n = {:.4g})\n"
+        "pair_style      gran model hertz tangential history{}\npair_coeff      * *\n",
+        m.youngs_modulus, m.poisson_ratio, m.restitution, friction,
+        damping_off ? "none" : "liggghts", tangential_damping_ratio(m),
+        damping_off ? " tangential_damping off" : "");
+  // hooke/stiffness without absolute_damping: the damping forces are m* gamman v_n and
+  // m* gammat v_t, so gamman is the damping rate γ_n/m* (1/s) of a pair of mean-diameter spheres
+  // (contact_time.hpp) and gammat = (γ_t/γ_n) gamman (TangentialDamping).
   const double rate = linear_spring_damping_rate(
       0.5 * sphere_mass(mean_diameter, m.particle_density), m.normal_stiffness, m.restitution);
+  const double ratio = tangential_damping_ratio(m);
+  const char* convention = m.tangential_damping == TangentialDamping::none ? "none"
+                           : m.tangential_damping == TangentialDamping::lammps_hooke_history
+                               ? "lammps_hooke_history"
+                               : "liggghts";
   return fmt::format(
       "# linear spring-dashpot: k_n = {0:.6g} N/m, k_t = {1:.6g} k_n, restitution {2:.6g} for a "
       "pair of d = {3:.6g} m\n"
+      "# tangential dashpot: {8} (gamma_t/gamma_n = {7:.4g})\n"
       "fix m1 all property/global kn peratomtypepair 1 {0:.17g}\n"
       "fix m2 all property/global kt peratomtypepair 1 {4:.17g}\n"
       "fix m3 all property/global gamman peratomtypepair 1 {5:.17g}\n"
-      "fix m5 all property/global gammat peratomtypepair 1 {5:.17g}\n{6}"
-      "pair_style      gran model hooke/stiffness tangential history absolute_damping off\n"
+      "fix m5 all property/global gammat peratomtypepair 1 {9:.17g}\n{6}"
+      "pair_style      gran model hooke/stiffness tangential history absolute_damping off{10}\n"
       "pair_coeff      * *\n",
       m.normal_stiffness, m.tangential_stiffness_ratio, m.restitution, mean_diameter,
-      m.tangential_stiffness_ratio * m.normal_stiffness, rate, friction);
+      m.tangential_stiffness_ratio * m.normal_stiffness, rate, friction, ratio, convention,
+      ratio * rate, damping_off ? " tangential_damping off" : "");
 }
 
 std::vector<std::pair<std::string, std::string>> check_shear_params(const ShearDeckParams& p) {
@@ -134,9 +159,18 @@ std::vector<std::pair<std::string, std::string>> check_shear_params(const ShearD
     if (!(m.tangential_stiffness_ratio > 0.0))
       issues.emplace_back("material.tangential_stiffness_ratio", "k_t / k_n > 0");
   }
-  if (!(p.solid_fraction > 0.0 && p.solid_fraction < max_solid_fraction))
+  if (!(p.solid_fraction > 0.0 && p.solid_fraction <= max_solid_fraction))
     issues.emplace_back("control.solid_fraction",
-                        fmt::format("in (0, {}) (random close packing)", max_solid_fraction));
+                        fmt::format("in (0, {}] (soft spheres compressed above random close "
+                                    "packing, docs/dem_dataset.md)",
+                                    max_solid_fraction));
+  if (m.contact_law == ContactLaw::hertz &&
+      m.tangential_damping == TangentialDamping::lammps_hooke_history)
+    issues.emplace_back("material.tangential_damping",
+                        "liggghts or none with contact_law hertz (LIGGGHTS' hertz model sets "
+                        "γ_t from the tangential stiffness, on or off only)");
+  if (!(p.initial_temperature < 0.0 || std::isfinite(p.initial_temperature)))
+    issues.emplace_back("control.initial_temperature", "a finite T0/(d γ̇)² >= 0");
   if (p.particles < 8) issues.emplace_back("dem.particles", ">= 8");
   if (!(p.sample_strain < p.total_strain)) issues.emplace_back("strain.sample", "< strain.total");
   if (p.wet.enabled) {
@@ -251,6 +285,18 @@ ShearDeck shear_deck_timing(const ShearDeckParams& p) {
   return out;
 }
 
+double initial_temperature(const ShearDeckParams& p, double mean_diameter) {
+  const double scale = mean_diameter * p.shear_rate * mean_diameter * p.shear_rate;  // (d γ̇)²
+  if (p.initial_temperature >= 0.0) return p.initial_temperature * scale;
+  const DemMaterial& m = p.material;
+  double phi = p.solid_fraction;
+  if (p.constant_pressure)  // the φ whose kinetic-theory I is the imposed one
+    phi = kinetic_solid_fraction_at(
+        p.shear_rate * mean_diameter / std::sqrt(p.normal_stress / m.particle_density),
+        m.restitution, m.particle_friction);
+  return kinetic_shear_temperature(phi, m.restitution, m.particle_friction) * scale;
+}
+
 ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file_name) {
   ShearDeck out = shear_deck_timing(p);
   const DemMaterial& m = p.material;
@@ -271,26 +317,16 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
   out.solid_volume = 0.0;
   for (double d : out.diameters) out.solid_volume += std::numbers::pi / 6.0 * d * d * d;
 
-  // --- loose simple-cubic lattice: spacing 1.05 d_max, so no two particles overlap; N of the
-  // n^3 sites chosen by a seeded Fisher-Yates shuffle, positions jittered by 2 % of a spacing.
-  const long cells = static_cast<long>(std::ceil(std::cbrt(double(n)) - 1e-9));
-  const double spacing = 1.05 * range.large;
-  out.initial_box_length = cells * spacing;
-  std::vector<long> sites(cells * cells * cells);
-  std::iota(sites.begin(), sites.end(), 0L);
-  for (long i = 0; i < n; ++i) {
-    const long j = i + static_cast<long>(uniform(rng) * double(sites.size() - i));
-    std::swap(sites[i], sites[j]);
-  }
+  // --- random sequential addition at φ_insert = min(φ, 0.3), then compression (stage 1) to φ
+  // (initial_state.hpp): never an expansion of a denser packing.
+  out.insertion_solid_fraction = std::min(p.solid_fraction, insertion_solid_fraction);
+  const RandomPacking packing = random_packing(out.diameters, out.insertion_solid_fraction, rng());
+  out.initial_box_length = packing.box_length;
   std::string atoms;
-  for (long i = 0; i < n; ++i) {
-    const long s = sites[i];
-    const long ix = s % cells, iy = (s / cells) % cells, iz = s / (cells * cells);
-    double pos[3] = {(ix + 0.5) * spacing, (iy + 0.5) * spacing, (iz + 0.5) * spacing};
-    for (double& c : pos) c += 0.02 * spacing * (2.0 * uniform(rng) - 1.0);
+  for (long i = 0; i < n; ++i)
     atoms += fmt::format("{} 1 {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", i + 1, out.diameters[i],
-                         m.particle_density, pos[0], pos[1], pos[2]);
-  }
+                         m.particle_density, packing.positions[3 * i], packing.positions[3 * i + 1],
+                         packing.positions[3 * i + 2]);
   out.data = fmt::format(
       "LIGGGHTS data file written by granflow: {} spheres, seed {}\n\n{} atoms\n1 atom types\n\n"
       "0 {:.17g} xlo xhi\n0 {:.17g} ylo yhi\n0 {:.17g} zlo zhi\n0 0 0 xy xz yz\n\n"
@@ -318,6 +354,7 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
             : std::string());
   }
   out.box_length = std::cbrt(out.solid_volume / p.solid_fraction);
+  out.initial_temperature = initial_temperature(p, out.mean_diameter);
 
   // Dry decks: the contact virial averaged over every step of each sample interval,
   //   <P^vir>_k = (1/n) sum_{j=1..n} P^vir(t_{k-1} + j dt),  n = gf_sample_every,
@@ -360,6 +397,11 @@ variable gf_servo_every equal {servo}
 variable gf_servo_move_every equal {servo_move}
 variable gf_profile_bins equal {bins}
 variable gf_particle_density equal {rho:.17g}
+# shear start: granflow-dem adds Gaussian velocity fluctuations of granular temperature
+# gf_initial_temperature (m^2/s^2, = {t0_scaled:.6g} (d gd)^2{t0_rule}) to the streaming profile,
+# zero total momentum, seeded by gf_velocity_seed and the atom id (docs/dem_dataset.md)
+variable gf_initial_temperature equal {t0:.17g}
+variable gf_velocity_seed equal {vseed}
 
 atom_style      granular
 atom_modify     map array
@@ -383,7 +425,8 @@ thermo_style    custom step atoms ke c_gf_virial[2] c_gf_virial[4]
 thermo_modify   norm no lost error
 thermo          {thermo_comp}
 
-# ---- stage 1: isotropic compression to phi = {phi:.6g} (box edge {l0:.6g} m -> {l1:.6g} m)
+# ---- stage 1: isotropic compression from the random insertion at phi = {phi0:.6g} to phi =
+# {phi:.6g} (box edge {l0:.6g} m -> {l1:.6g} m)
 fix             gf_compress all deform 1 x final 0 {l1:.17g} y final 0 {l1:.17g} z final 0 {l1:.17g} remap x
 run             {ncomp}
 unfix           gf_compress
@@ -410,8 +453,16 @@ thermo          0                            # thermo (and the virial) at the en
       fmt::arg("contact", contact_law_commands(m, out.mean_diameter)), fmt::arg("dt", out.dt),
       fmt::arg("thermo_comp", std::max(1L, p.compression_steps / 5)),
       fmt::arg("phi", p.solid_fraction), fmt::arg("l0", out.initial_box_length),
-      fmt::arg("l1", out.box_length), fmt::arg("ncomp", compression),
-      fmt::arg("stress_average", stress_average), fmt::arg("vtop", top_speed));
+      fmt::arg("phi0", out.insertion_solid_fraction), fmt::arg("t0", out.initial_temperature),
+      fmt::arg("t0_scaled", out.initial_temperature / (out.mean_diameter * p.shear_rate *
+                                                       out.mean_diameter * p.shear_rate)),
+      fmt::arg("t0_rule", p.initial_temperature >= 0.0 ? ", control.initial_temperature"
+                          : p.constant_pressure
+                              ? ", kinetic theory's homogeneous shear at the imposed I"
+                              : ", kinetic theory's homogeneous shear f2/f3 at phi"),
+      fmt::arg("vseed", p.seed % 2147483647UL), fmt::arg("l1", out.box_length),
+      fmt::arg("ncomp", compression), fmt::arg("stress_average", stress_average),
+      fmt::arg("vtop", top_speed));
   out.deck += fluid_fix;
   return out;
 }

@@ -1,9 +1,10 @@
 // LIGGGHTS input deck for Lees-Edwards simple shear, generated from case parameters.
-// The deck (in.granflow) plus its particle file (particles.data) build the sample: random
-// non-overlapping sites of a loose simple-cubic lattice in a zero-tilt prism box, isotropic
-// compression (fix deform ... remap x) to the target solid fraction, then the streaming profile
-// (velocity ramp) and `fix deform 1 xy erate GD remap v` (Lees-Edwards). The shear stage itself
-// (sampling, servo) is run by granflow-dem, which reads the gf_* variables of the deck.
+// The deck (in.granflow) plus its particle file (particles.data) build the sample: spheres
+// placed at random without overlap in a zero-tilt prism box at min(φ, 0.3) (initial_state.hpp),
+// isotropic compression (fix deform ... remap x) to the target solid fraction, then the
+// streaming profile (velocity ramp) and `fix deform 1 xy erate GD remap v` (Lees-Edwards). The
+// shear stage itself (sampling, servo) is run by granflow-dem, which reads the gf_* variables of
+// the deck and first adds the velocity fluctuations of gf_initial_temperature.
 #pragma once
 
 #include <string>
@@ -25,6 +26,16 @@ enum class SizeDistribution { monodisperse, bidisperse, uniform };
 //          2001 PRE 64 051302, the common soft-sphere setting).
 enum class ContactLaw { hertz, hooke };
 
+// Tangential dashpot γ_t of the contact, F_t = -(k_t ξ + γ_t v_t) within the Coulomb limit
+// (docs/dem_dataset.md, "Tangential dashpot"):
+//   liggghts:             LIGGGHTS' own setting (tangential_damping on). hooke/stiffness: γ_t =
+//                         γ_n (the deck passes the same rate); hertz: γ_t = 2 √(5/6) β √(S_t m*),
+//                         i.e. γ_t/γ_n = √(S_t/S_n) = √(2(1-ν)/(2-ν)) = 0.91 at ν = 0.3
+//                         (LIGGGHTS normal_model_hertz.h; Tsuji et al. 1992);
+//   lammps_hooke_history: γ_t = γ_n/2, LAMMPS pair gran/hooke/history's default (hooke only);
+//   none:                 γ_t = 0 (LIGGGHTS `tangential_damping off`).
+enum class TangentialDamping { liggghts, lammps_hooke_history, none };
+
 struct DemMaterial {
   double diameter = 1e-3;          // number-mean diameter d, m
   double particle_density = 2500;  // rho_p, kg/m^3
@@ -39,7 +50,11 @@ struct DemMaterial {
   ContactLaw contact_law = ContactLaw::hertz;
   double normal_stiffness = 0.0;                  // hooke: k_n, N/m
   double tangential_stiffness_ratio = 2.0 / 7.0;  // hooke: k_t / k_n
+  TangentialDamping tangential_damping = TangentialDamping::liggghts;
 };
+
+// γ_t/γ_n of `m` as the deck sets it (TangentialDamping).
+double tangential_damping_ratio(const DemMaterial& m);
 
 // LIGGGHTS commands that define the contact law of `m` (material properties + pair_style +
 // pair_coeff) for one atom type; `mean_diameter` sets the hooke damping rate (see ContactLaw).
@@ -67,6 +82,10 @@ struct ShearDeckParams {
   unsigned long seed = 1;
   bool constant_pressure = false;
   double solid_fraction = 0.55;  // constant volume: the imposed phi; constant pressure: start
+  // Granular temperature of the velocity fluctuations the shear stage starts with, in units of
+  // (d γ̇)²; negative: kinetic theory's steady value (initial_state.hpp): at φ for constant
+  // volume, at the φ of kinetic theory's I for constant pressure.
+  double initial_temperature = -1.0;
   double normal_stress = 100.0;  // constant pressure: imposed sigma_yy, Pa
   double servo_gain = 0.01;
   double servo_max_strain = 0.002;  // largest relative height change per servo update
@@ -100,7 +119,9 @@ struct ShearDeck {
   // Steps of the isotropic compression: dem.compression_steps, rounded up to whole sample
   // intervals in dry decks (their fix ave/time windows end on multiples of sample_every).
   long compression_steps = 0;
-  double initial_box_length = 0, box_length = 0;  // lattice box, compressed box (m)
+  double initial_box_length = 0, box_length = 0;  // inserted box, compressed box (m)
+  double insertion_solid_fraction = 0;            // φ of the random insertion
+  double initial_temperature = 0;                 // T0 of the shear start, m²/s²
   double solid_volume = 0;                        // m^3
 };
 
@@ -127,6 +148,15 @@ double default_servo_gain(const ShearDeckParams& p);
 // contact and fluid times, dt and the limit that sets it, sample/servo/total step counts (step
 // counts saturate at 1e18). Cheap at any dem.particles: what the case check uses.
 ShearDeck shear_deck_timing(const ShearDeckParams& p);
+
+// T0 of the shear start in m²/s² (ShearDeckParams::initial_temperature, its default resolved).
+double initial_temperature(const ShearDeckParams& p, double mean_diameter);
+
+// Largest control.solid_fraction: 0.70, the range soft frictionless spheres compressed above
+// random close packing (φ_J ≈ 0.64) reach at mean overlaps of a few % of d (O'Hern et al. 2003,
+// Phys. Rev. E 68, 011306: φ - φ_J ∝ overlap); beyond, the contact laws leave their small-strain
+// range. Above 0.64 the sample is compressed from a looser random packing (docs/dem_dataset.md).
+constexpr double max_solid_fraction = 0.70;
 
 // Builds the deck; `data_file_name` is the particle file name as the deck refers to it.
 ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file_name);

@@ -7,6 +7,8 @@
 // 1. constructs the LIGGGHTS instance and applies the triclinic workaround (liggghts_access.cpp)
 //    and registers granflow's own fix styles (fix_styles.cpp);
 // 2. reads DECK (sample preparation; defines the gf_* parameters and fix gf_shear);
+// 2b. adds the starting velocity fluctuations: Gaussian, granular temperature
+//    gf_initial_temperature about the streaming profile, zero total momentum (add_fluctuations);
 // 3. runs the shear stage in chunks of gf_sample_every steps (`run N start S stop E pre no`,
 //    so fix deform's tilt stays continuous inside a segment) and after each chunk samples
 //    the atom arrays through the instance (lammps_extract_atom, the pair's neighbour list) and
@@ -27,13 +29,16 @@
 // 3 numerical failure (NaN/Inf or negative T in a sample).
 #include <mpi.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
 #include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -158,12 +163,13 @@ void write_series_header(std::FILE* f, bool wet) {
                "Pkin_xx\tPkin_yy\tPkin_zz\tPkin_xy\tPkin_xz\tPkin_yz\t"
                "P_xx\tP_yy\tP_zz\tP_xy\tP_xz\tP_yz\t"
                "sigma_yy\ttau\tp\tmu\tT\tphi\te\tI\tZ\td_mean\t"
-               "momentum_x\tmomentum_y\tmomentum_z\tparticles\tprofile_deviation");
+               "momentum_x\tmomentum_y\tmomentum_z\tparticles\tprofile_deviation\toverlap");
   if (wet) std::fprintf(f, "\ttau_contact\ttau_lub\ttau_drag\ttau_kin\tlubricated_pairs");
   std::fputc('\n', f);
 }
 
-void write_series_row(std::FILE* f, const ShearSample& s, const FluidStress* fluid) {
+void write_series_row(std::FILE* f, const ShearSample& s, double overlap,
+                      const FluidStress* fluid) {
   std::fprintf(f, "%ld\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g", s.step, s.time, s.strain,
                s.box.lx, s.box.ly, s.box.lz, s.box.xy, s.box.volume());
   for (double v : s.virial_stress) std::fprintf(f, "\t%.10g", v);
@@ -172,8 +178,9 @@ void write_series_row(std::FILE* f, const ShearSample& s, const FluidStress* flu
   std::fprintf(f, "\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g",
                s.normal_stress, s.shear_stress, s.pressure, s.friction, s.temperature,
                s.solid_fraction, s.void_ratio, s.inertial_number, s.coordination, s.mean_diameter);
-  std::fprintf(f, "\t%.17g\t%.17g\t%.17g\t%.0f\t%.10g", s.peculiar_momentum[0],
-               s.peculiar_momentum[1], s.peculiar_momentum[2], s.particles, s.profile_deviation);
+  std::fprintf(f, "\t%.17g\t%.17g\t%.17g\t%.0f\t%.10g\t%.10g", s.peculiar_momentum[0],
+               s.peculiar_momentum[1], s.peculiar_momentum[2], s.particles, s.profile_deviation,
+               overlap);
   if (fluid)
     std::fprintf(f, "\t%.17g\t%.17g\t%.17g\t%.17g\t%.0f", fluid->contact, fluid->lubrication,
                  fluid->drag, fluid->kinetic, fluid->lubricated_pairs);
@@ -186,6 +193,78 @@ void write_profile_row(std::FILE* f, const ShearSample& s) {
   for (double v : s.profile_velocity) std::fprintf(f, "\t%.10g", v);
   std::fputc('\n', f);
   std::fflush(f);
+}
+
+// SplitMix64 (Steele, Lea & Flood 2014): a well-mixed 64-bit hash, so that the fluctuation of an
+// atom depends only on (seed, atom id), not on which rank holds it.
+std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+// Adds c_i to every velocity: c_i Gaussian (Box-Muller on mt19937_64 seeded by (seed, id)),
+// shifted so that Σ m_i c_i = 0 and scaled so that Σ |c_i|² / (3 N) = T0 exactly (the number
+// average of shear_sample.hpp). Rotation untouched. Collective. Returns the T0 applied.
+double add_fluctuations(void* handle, double temperature, std::uint64_t seed) {
+  const int nlocal = *static_cast<int*>(lammps_extract_global(handle, "nlocal"));
+  auto** v = static_cast<double**>(lammps_extract_atom(handle, "v"));
+  const auto* mass = static_cast<double*>(lammps_extract_atom(handle, "rmass"));
+  const auto* id = static_cast<int*>(lammps_extract_atom(handle, "id"));
+  std::vector<double> c(3 * std::size_t(std::max(nlocal, 0)));
+  std::array<double, 5> local{}, global{};  // Σ m c (3), Σ m, N
+  for (int i = 0; i < nlocal; ++i) {
+    std::mt19937_64 rng(splitmix64(seed * 0x100000001b3ULL + std::uint64_t(id[i])));
+    auto uniform = [&] { return (double(rng() >> 11) + 0.5) * 0x1.0p-53; };  // (0, 1)
+    for (int k = 0; k < 3; ++k) {
+      // Box-Muller: sqrt(-2 ln u1) cos(2 π u2) is standard normal
+      c[3 * i + k] = std::sqrt(-2.0 * std::log(uniform())) * std::cos(2.0 * M_PI * uniform());
+      local[k] += mass[i] * c[3 * i + k];
+    }
+    local[3] += mass[i];
+    local[4] += 1.0;
+  }
+  MPI_Allreduce(local.data(), global.data(), 5, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+  double sum_sq_local = 0.0, sum_sq = 0.0;
+  for (int i = 0; i < nlocal; ++i)
+    for (int k = 0; k < 3; ++k) {
+      c[3 * i + k] -= global[k] / global[3];
+      sum_sq_local += c[3 * i + k] * c[3 * i + k];
+    }
+  MPI_Allreduce(&sum_sq_local, &sum_sq, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+  if (!(sum_sq > 0.0) || !(temperature > 0.0)) return 0.0;
+  const double scale = std::sqrt(3.0 * global[4] * temperature / sum_sq);
+  for (int i = 0; i < nlocal; ++i)
+    for (int k = 0; k < 3; ++k) v[i][k] += scale * c[3 * i + k];
+  return temperature;
+}
+
+// Mean overlap of the touching pairs, <δ> = Σ δ_ij / N_c with δ_ij = r_i + r_j - |x_i - x_j| > 0,
+// over the pair's half neighbour list (a pair with a ghost is listed on both ranks: weight 1/2,
+// as accumulate_contacts). How soft the sample is: δ/d of a few % above jamming (O'Hern et al.
+// 2003). Collective; 0 without contacts.
+double mean_overlap(void* handle, const LAMMPS_NS::LAMMPS& lmp) {
+  std::array<double, 2> local{}, global{};  // Σ w δ, Σ w
+  if (const LAMMPS_NS::NeighList* list = lmp.force->pair->list) {
+    const int nlocal = *static_cast<int*>(lammps_extract_global(handle, "nlocal"));
+    auto** x = static_cast<double**>(lammps_extract_atom(handle, "x"));
+    const auto* radius = static_cast<double*>(lammps_extract_atom(handle, "radius"));
+    for (int ii = 0; ii < list->inum; ++ii) {
+      const int i = list->ilist[ii];
+      for (int jj = 0; jj < list->numneigh[i]; ++jj) {
+        const int j = list->firstneigh[i][jj] & NEIGHMASK;
+        const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
+        const double overlap = radius[i] + radius[j] - std::sqrt(dx * dx + dy * dy + dz * dz);
+        if (overlap <= 0.0) continue;
+        const double w = j < nlocal ? 1.0 : 0.5;
+        local[0] += w * overlap;
+        local[1] += w;
+      }
+    }
+  }
+  MPI_Allreduce(local.data(), global.data(), 2, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+  return global[1] > 0.0 ? global[0] / global[1] : 0.0;
 }
 
 // Stops the run (all ranks see the same global sample) with exit code 3.
@@ -230,6 +309,23 @@ int main(int argc, char** argv) {
       usage_error(rank, "cannot open deck " + opt.deck);
   }
   lammps_file(handle, opt.deck.c_str());
+
+  // Optional (decks before the starting-state keys have none): the starting fluctuations.
+  if (void* p =
+          lammps_extract_variable(handle, const_cast<char*>("gf_initial_temperature"), nullptr)) {
+    const double t0 = *static_cast<double*>(p);
+    std::free(p);
+    const auto seed =
+        static_cast<std::uint64_t>(std::llround(deck_variable(handle, "gf_velocity_seed", rank)));
+    if (!(t0 >= 0.0) || !std::isfinite(t0))
+      usage_error(rank, "deck: gf_initial_temperature must be finite and >= 0");
+    const double applied = add_fluctuations(handle, t0, seed);
+    if (rank == 0)
+      std::printf(
+          "granflow-dem: shear starts from the streaming profile + fluctuations of T0 = "
+          "%.6g m^2/s^2 (zero total momentum)\n",
+          applied);
+  }
 
   const double shear_rate = deck_variable(handle, "gf_shear_rate", rank);
   const long total_steps = std::lround(deck_variable(handle, "gf_total_steps", rank));
@@ -286,6 +382,11 @@ int main(int argc, char** argv) {
                  "bin_0 ... bin_%d\n",
                  bins, bins - 1);
   }
+
+  if (const double overlap = mean_overlap(handle, *lmp); rank == 0)
+    std::printf(
+        "granflow-dem: shear starts at mean overlap <delta> = %.6g m of the touching pairs\n",
+        overlap);
 
   granflow::dem::SampleSums local(bins), global(bins);
   const double dt = lmp->update->dt;
@@ -362,10 +463,11 @@ int main(int argc, char** argv) {
         s.time = double(s.step - shear_begin) * dt;
         s.strain = shear_rate * s.time;
         check_sample(s, rank);
+        const double overlap = mean_overlap(handle, *lmp);
         FluidStress fluid;
         if (wet) fluid = fluid_stress(handle, s, rank);
         if (rank == 0) {
-          write_series_row(series, s, wet ? &fluid : nullptr);
+          write_series_row(series, s, overlap, wet ? &fluid : nullptr);
           write_profile_row(profile, s);
         }
         ++samples;

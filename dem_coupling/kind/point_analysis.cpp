@@ -55,6 +55,7 @@ constexpr const char* series_units[][3] = {
     {"momentum_y", "kg m/s", "momentum Σ m v_y"},
     {"momentum_z", "kg m/s", "momentum Σ m v_z"},
     {"profile_deviation", "1", "RMS deviation of the mean v_x profile from the line / (γ̇ L_y)"},
+    {"overlap", "m", "mean overlap <δ> of the touching pairs"},
 };
 
 // Immersed runs only: the shear-stress split (docs/dem_fluid.md; sums to tau).
@@ -165,6 +166,11 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
   v["Z"] = s_Z.mean;
   v["Z_err"] = s_Z.error;
   v["profile_deviation"] = s_dev.mean;
+  if (t.columns.count("overlap")) {  // how soft the sample is: <δ>/d (granflow-dem's overlap)
+    const Steady s_overlap = steady_of(t.at("overlap"), start);
+    v["overlap"] = s_overlap.mean / d;
+    v["overlap_err"] = s_overlap.error / d;
+  }
   v["start_strain"] = t.at("strain")[start];
   v["end_strain"] = t.at("strain").back();
   v["samples"] = double(t.rows() - start);
@@ -186,7 +192,16 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
   }
   // Steady means steady: no observable may drift over the window (kind/steady_checks.hpp).
   const SteadyCheck check = check_steady(t, start, residual);
-  v["reached"] = check.reached ? 1.0 : 0.0;
+  // A sample whose T never leaves ~0 (spheres on streamlines, no collisions) has steady-looking
+  // series of nothing: flagged frozen and not steady (steady_checks.hpp, frozen_temperature).
+  const bool frozen = !(v["T_scaled"] >= frozen_temperature);
+  v["frozen"] = frozen ? 1.0 : 0.0;
+  if (frozen)
+    r.warnings.push_back(fmt::format(
+        "NOT steady: frozen, T/(d γ̇)² = {:.3g} < {:g}: the spheres move on the streamlines "
+        "without colliding (start it with velocity fluctuations, control.initial_temperature)",
+        v["T_scaled"], frozen_temperature));
+  v["reached"] = check.reached && !frozen ? 1.0 : 0.0;
   v["drift_max"] = check.worst;
   for (const auto& [key, z] : check.drift) {
     if (std::isfinite(z)) v["drift." + key] = z;

@@ -56,8 +56,10 @@ std::string read(const std::filesystem::path& file) {
 TEST(DemCli, ImpossibleCaseIsRefusedBeforeLiggghtsStarts) {
   const auto dir = fresh_directory("cli_refused");
   std::ofstream(dir / "case.yaml") << small_case;
-  // Solid fraction beyond random close packing: exit 2 naming the key, nothing launched.
-  EXPECT_EQ(run_cli("run case.yaml --out run --set control.solid_fraction=0.7", dir),
+  // Solid fraction beyond what soft spheres compressed above random close packing reach (0.70,
+  // max_solid_fraction; 0.64 before constant volume above jamming): exit 2 naming the key,
+  // nothing launched.
+  EXPECT_EQ(run_cli("run case.yaml --out run --set control.solid_fraction=0.72", dir),
             granflow::core::exit_bad_input);
   const std::string out = read(dir / "cli.txt");
   EXPECT_NE(out.find("control.solid_fraction"), std::string::npos) << out;
