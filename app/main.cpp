@@ -30,6 +30,7 @@
 #include "core/process.hpp"
 #include "core/run.hpp"
 #include "core/sweep_scheduler.hpp"
+#include "granflow_version.hpp"
 
 namespace fs = std::filesystem;
 using namespace granflow;
@@ -110,6 +111,8 @@ int run_main(int argc, char** argv) {
 
   CLI::App cli{"granflow: continuum and DEM models of saturated granular media, side by side"};
   cli.require_subcommand(1);
+  cli.set_version_flag("--version",
+                       fmt::format("granflow {} (commit {})", GRANFLOW_VERSION, GRANFLOW_COMMIT));
   std::string kinds;
   for (const auto& e : registry.entries())
     kinds +=
@@ -120,7 +123,7 @@ int run_main(int argc, char** argv) {
       "  granflow run cases/rev/simple_shear_dry.yaml --set loading.shear_rate=50 --out runs/fast\n"
       "  granflow run cases/rev/simple_shear_sweep.yaml --force\n"
       "  granflow check cases/rev/simple_shear_wet.yaml\n"
-      "  granflow run cases/pair/dry_pair.yaml && granflow report runs/dry_pair\n"
+      "  granflow run cases/pair/dry_pair.yaml && granflow report runs/pair_dry\n"
       "  mpirun -np 2 granflow run cases/dem/dry_sweep.yaml --set dem.ranks=1   (a sweep on 2 "
       "cores)\n"
       "  granflow study convergence cases/mpm/rheometer_ci.yaml --vary mesh\n"

@@ -57,7 +57,7 @@ core::Schema calibrate_schema() {
   auto& data = s.section("data", "DEM datasets (docs/dem_dataset.md) to calibrate against");
   data.string("files",
               "result.h5 paths separated by spaces or commas (relative: to the working directory, "
-              "then the case file's directory, then the source tree)")
+              "then the case file's directory)")
       .required();
   data.string("observables",
               "observables fitted, separated by spaces: friction, solid_fraction, "

@@ -35,8 +35,7 @@ const std::vector<ParameterSpec>& parameter_specs() {
        "e_Γ of e_cs = e_Γ - λ_c (p/p_ref)^ξ_c (1/(1+e_Γ): φ of the critical state as p -> 0)"},
       {"critical_state_slope", "force_chains.lambda_c", 1e-6, 1.0,
        "λ_c of the critical state line"},
-      {"critical_state_exponent", "force_chains.xi_c", 0.02, 5.0,
-       "ξ_c of the critical state line"},
+      {"critical_state_exponent", "force_chains.xi_c", 0.02, 5.0, "ξ_c of the critical state line"},
       {"critical_stress_ratio", "force_chains.M_c", 0.05, 2.9,
        "M_c, the Lade-Duncan ratio q/p in compression (simple shear: μ_FC = M(θ=0)/√3)"},
       {"contact_production", "steady.contact_production", 0.0, 1.0,
@@ -160,11 +159,16 @@ DemDataset read_dem_dataset(const std::filesystem::path& file, int source_index)
   }
   // One row per condition in every column: a shorter or longer column is a damaged dataset.
   const std::pair<const char*, const std::vector<double>*> columns[] = {
-      {"normal_stress", &sigma},        {"friction", &mu},
-      {"friction_err", &mu_err},        {"solid_fraction", &phi},
-      {"solid_fraction_err", &phi_err}, {"granular_temperature", &T},
-      {"granular_temperature_err", &T_err}, {"scaled_temperature", &T_scaled},
-      {"particle_friction", &mu_p},     {"inertial_number", &I},
+      {"normal_stress", &sigma},
+      {"friction", &mu},
+      {"friction_err", &mu_err},
+      {"solid_fraction", &phi},
+      {"solid_fraction_err", &phi_err},
+      {"granular_temperature", &T},
+      {"granular_temperature_err", &T_err},
+      {"scaled_temperature", &T_scaled},
+      {"particle_friction", &mu_p},
+      {"inertial_number", &I},
       {"viscosity", &viscosity}};
   for (const auto& [name, values] : columns)
     if (values->size() != shear_rate.size() && !(values == &viscosity && values->empty()))
@@ -379,10 +383,10 @@ std::vector<std::string> split_names(const std::string& text) {
 std::filesystem::path resolve_data_path(const core::Case& c, const std::string& name) {
   const std::filesystem::path p(name);
   if (p.is_absolute() || std::filesystem::exists(p)) return p;
+  // Then beside the case file. Never the source tree the binary was built from: that may be
+  // another checkout, whose data would be used without a word.
   const auto beside_case = std::filesystem::path(c.origin()).parent_path() / p;
   if (std::filesystem::exists(beside_case)) return beside_case;
-  const auto in_source = core::source_dir() / p;
-  if (std::filesystem::exists(in_source)) return in_source;
   return p;  // reported as missing by read_dem_dataset
 }
 
@@ -420,9 +424,10 @@ CaseData read_case_data(const core::Case& c) {
     out.files.push_back(fmt::format("{}: {} usable conditions", path.string(), set.points.size()));
     if (std::abs(set.diameter / col.diameter - 1) > 0.05 ||
         std::abs(set.particle_density / col.particle_density - 1) > 1e-6)
-      out.notes.push_back(fmt::format(
-          "{}: DEM d = {:g} m, ρ_p = {:g} kg/m³ differ from the case's material; the case's is used",
-          path.string(), set.diameter, set.particle_density));
+      out.notes.push_back(
+          fmt::format("{}: DEM d = {:g} m, ρ_p = {:g} kg/m³ differ from the case's material; the "
+                      "case's is used",
+                      path.string(), set.diameter, set.particle_density));
     for (const auto& point : set.points)
       if (!c.has("data.particle_friction") ||
           std::abs(point.particle_friction - c.number("data.particle_friction")) < 1e-12)

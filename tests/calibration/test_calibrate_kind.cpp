@@ -162,5 +162,32 @@ TEST(CalibrateKind, NamedHoldoutListAndMissingDataFile) {
   }
 }
 
+// A relative data path is looked up in the working directory, then beside the case file, never
+// in the source tree the binary was built from (another checkout's data would be used silently).
+TEST(CalibrateKind, RelativeDataPathsNeverReachIntoTheSourceTree) {
+  const auto schema = calibrate_schema();
+  const auto dir = std::filesystem::temp_directory_path() / "granflow_data_path_test";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const auto c = core::Case::parse(
+      "kind: calibrate\nmaterial: {diameter: 1.0e-3, particle_density: 2500, restitution: 0.7}\n"
+      "data: {files: x.h5}\nfit: {parameters: jamming_fraction}\n",
+      (dir / "case.yaml").string(), {}, schema);
+  // A file that exists only in the source tree: work in the scratch directory.
+  const auto previous = std::filesystem::current_path();
+  std::filesystem::current_path(dir);
+  const std::string only_in_source = "cases/calibrate/dry_mu_I.yaml";
+  ASSERT_TRUE(std::filesystem::exists(std::filesystem::path(GRANFLOW_SOURCE_DIR) / only_in_source));
+  ASSERT_FALSE(std::filesystem::exists(only_in_source));
+  EXPECT_EQ(resolve_data_path(c, only_in_source), std::filesystem::path(only_in_source));
+  // In the working directory, then beside the case file, it is found.
+  std::filesystem::create_directories(dir / "data");
+  std::ofstream(dir / "data" / "r.h5") << "x";
+  EXPECT_EQ(resolve_data_path(c, "data/r.h5"), std::filesystem::path("data/r.h5"));
+  std::filesystem::current_path(previous);
+  EXPECT_EQ(resolve_data_path(c, "data/r.h5"), dir / "data" / "r.h5");
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace granflow::calibration
