@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <numeric>
 #include <span>
 #include <sstream>
@@ -46,6 +47,9 @@ TEST(DemShear, ImposedLinearProfileWithoutContactsHasZeroKineticStressAndTempera
   // streaming velocity: rows slide past each other without touching for a strain below
   // (0.05 - 0.042) / 0.042 = 0.19, so every particle keeps v = u(y) (also across the
   // Lees-Edwards boundary, where remap v shifts v_x by gd L_y). Everything kinetic must vanish.
+  // The decks now insert spheres at random and start with velocity fluctuations
+  // (initial_state.hpp): this test writes the lattice itself and asks for no fluctuations
+  // (initial_temperature 0), the frozen state of issue 24 on purpose.
   ShearDeckParams p;
   p.material.size = SizeDistribution::monodisperse;
   p.particles = 216;  // full 6^3 lattice
@@ -53,12 +57,26 @@ TEST(DemShear, ImposedLinearProfileWithoutContactsHasZeroKineticStressAndTempera
   p.total_strain = 0.15;
   p.sample_strain = 0.005;
   p.compression_steps = 1;
-  const auto probe = make_shear_deck(p, "particles.data");
-  p.solid_fraction = probe.solid_volume / std::pow(probe.initial_box_length, 3);
-  const auto run = run_case("linear_profile", p);
+  p.initial_temperature = 0.0;
+  const double d = p.material.diameter, spacing = 1.05 * d, box = 6 * spacing;
+  p.solid_fraction = 216 * std::numbers::pi / 6.0 * d * d * d / (box * box * box);
+  const auto dir = fresh_directory("linear_profile");
+  const auto deck = make_shear_deck(p, "particles.data");
+  std::ofstream(dir / "in.granflow") << deck.deck;
+  std::ofstream data(dir / "particles.data");
+  data << "LIGGGHTS data file: 6^3 lattice\n\n216 atoms\n1 atom types\n\n";
+  for (const char* axis : {"x", "y", "z"})
+    data << fmt::format("0 {:.17g} {}lo {}hi\n", box, axis, axis);
+  data << "0 0 0 xy xz yz\n\nAtoms\n\n";
+  for (int i = 0; i < 216; ++i)
+    data << fmt::format("{} 1 {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", i + 1, d,
+                        p.material.particle_density, (i % 6 + 0.5) * spacing,
+                        (i / 6 % 6 + 0.5) * spacing, (i / 36 + 0.5) * spacing);
+  data.close();
+  const auto run = run_driver(dir);
   ASSERT_EQ(run.status, 0) << run.output;
   ASSERT_GE(run.series.rows(), 25u);
-  const double speed = p.shear_rate * probe.initial_box_length;  // top speed gd L
+  const double speed = p.shear_rate * box;  // top speed gd L
   const double stress_scale = p.material.particle_density * speed * speed;
   for (std::size_t i = 0; i < run.series.rows(); ++i) {
     // Round-off of v - u(y) with |v| <= gd L: |v'| <~ 1e-15 gd L, so T and P^kin are ~1e-30 of
