@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "continuum/mpm/material_points.hpp"
@@ -52,6 +53,9 @@ void MultiRegimeMaterial::set_internal_length(double length, double overnonlocal
   overnonlocal_ = overnonlocal;
   nonlocal_.reset();
   if (length > 0) nonlocal_ = std::make_unique<NonlocalAverage>(length);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (auto* a : {&built_x_, &built_y_, &built_volume_})
+    a->assign(length > 0 ? end_ - begin_ : 0, nan);
 }
 
 void MultiRegimeMaterial::initialize(SolidPoints& s) {
@@ -203,7 +207,14 @@ void MultiRegimeMaterial::average_softening(const StressUpdateView& v) {
     has_locus_[k] = r_c_start_[k] > 0.0;
     softening_[k] = has_locus_[k] ? (r_c_[k] - r_c_start_[k]) / r_c_start_[k] : 0.0;
   }
-  nonlocal_->update(v.x + begin_, v.y + begin_, v.volume + begin_, n, v.threads);
+  // after a restart: the lists of the checkpointed build first (bit for bit), then the skin test
+  if (nonlocal_->builds() == 0 && n > 0 && std::isfinite(built_x_[0]))
+    nonlocal_->build(built_x_.data(), built_y_.data(), built_volume_.data(), n, v.threads);
+  if (nonlocal_->update(v.x + begin_, v.y + begin_, v.volume + begin_, n, v.threads)) {
+    built_x_ = nonlocal_->built_x();
+    built_y_ = nonlocal_->built_y();
+    built_volume_ = nonlocal_->built_volume();
+  }
   nonlocal_->average(softening_.data(), has_locus_.data(), softening_average_.data(), v.threads);
   const double m = overnonlocal_;
   for (std::size_t k = 0; k < n; ++k)
@@ -213,10 +224,16 @@ void MultiRegimeMaterial::average_softening(const StressUpdateView& v) {
 }
 
 std::vector<std::pair<std::string, std::vector<double>*>> MultiRegimeMaterial::state() {
-  return {{"fc_xx", &fc_xx_},          {"fc_yy", &fc_yy_},   {"fc_zz", &fc_zz_},
-          {"fc_xy", &fc_xy_},          {"chi_xx", &chi_xx_}, {"chi_yy", &chi_yy_},
-          {"chi_zz", &chi_zz_},        {"chi_xy", &chi_xy_}, {"r_c", &r_c_},
-          {"void_ratio", &void_ratio_}};
+  std::vector<std::pair<std::string, std::vector<double>*>> s = {
+      {"fc_xx", &fc_xx_},   {"fc_yy", &fc_yy_},          {"fc_zz", &fc_zz_},   {"fc_xy", &fc_xy_},
+      {"chi_xx", &chi_xx_}, {"chi_yy", &chi_yy_},        {"chi_zz", &chi_zz_}, {"chi_xy", &chi_xy_},
+      {"r_c", &r_c_},       {"void_ratio", &void_ratio_}};
+  if (nonlocal_) {  // with ℓ > 0 only: the checkpoint of ℓ = 0 is unchanged
+    s.emplace_back("nonlocal_x", &built_x_);
+    s.emplace_back("nonlocal_y", &built_y_);
+    s.emplace_back("nonlocal_volume", &built_volume_);
+  }
+  return s;
 }
 
 void register_multi_regime_material(MaterialRegistry& registry,

@@ -96,6 +96,9 @@ class MultiRegimeMaterial final : public SolidMaterial {
   double overnonlocal_ = 2.0;
   std::vector<double> r_c_start_, softening_, softening_average_;
   std::vector<std::uint8_t> has_locus_;
+  // positions and volumes of the last neighbour-list build, checkpointed (state()) so that a
+  // restart rebuilds the same lists; NaN until the first build
+  std::vector<double> built_x_, built_y_, built_volume_;
   void average_softening(const StressUpdateView& view);
 };
 

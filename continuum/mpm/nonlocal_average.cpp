@@ -34,6 +34,7 @@ void NonlocalAverage::build(const double* x, const double* y, const double* volu
   ++builds_;
   x_built_.assign(x, x + n);
   y_built_.assign(y, y + n);
+  volume_built_.assign(volume, volume + n);
   start_.assign(n + 1, 0);
   neighbour_.clear();
   kernel_.clear();

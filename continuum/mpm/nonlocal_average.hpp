@@ -40,13 +40,18 @@ class NonlocalAverage {
   long builds() const { return builds_; }
   // Σ_j α_ij of point i (1 up to rounding; for the tests).
   double weight_sum(std::size_t i) const;
+  // Positions and volumes of the last build (empty before the first): a checkpoint stores them,
+  // and build() from them after a restart gives the same lists, so the run continues bit for bit.
+  const std::vector<double>& built_x() const { return x_built_; }
+  const std::vector<double>& built_y() const { return y_built_; }
+  const std::vector<double>& built_volume() const { return volume_built_; }
 
  private:
   double length_, cutoff_, skin_;
   std::vector<std::size_t> start_;        // CSR: neighbours of i are [start_[i], start_[i+1])
   std::vector<std::uint32_t> neighbour_;  // j
   std::vector<double> kernel_;            // V_j w(r_ij)
-  std::vector<double> x_built_, y_built_;
+  std::vector<double> x_built_, y_built_, volume_built_;
   long builds_ = 0;
 };
 
