@@ -3,7 +3,7 @@
 //    largest first) in a cubic periodic box at φ_insert = min(φ, insertion_solid_fraction);
 //    a denser target is then reached by compressing the box (fix deform), never by expanding a
 //    denser packing (an expansion leaves the spheres apart and at rest: a dilute gas started so
-//    never collides and never heats, issue 24);
+//    never collides and never heats);
 //  * the velocities: the streaming profile u_x = γ̇ (y - y_lo) plus Gaussian fluctuations of
 //    granular temperature T0 = Σ|c|²/(3N), zero total peculiar momentum, no spin (added by
 //    granflow-dem after the deck; LIGGGHTS 3.8.0 has no `velocity ... create`).

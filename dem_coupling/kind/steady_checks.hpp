@@ -28,7 +28,7 @@ constexpr double max_target_miss = 2.0;  // |miss| above this: off the imposed �
 // Frozen: the steady T/(d γ̇)² below this. A sheared sample that collides has T/(dγ̇)² of order
 // 0.01-10: kinetic theory's homogeneous shear gives f2/f3 >= 2 J/(15 (1-ε²)) >= 1/15 (dense
 // limit, J -> (1+e)/2), and dense DEM flows have δv ~ d γ̇ I^(-1/2) or more; a gas started on the
-// affine profile without fluctuations that never collides stays at ~1e-8 (issue 24).
+// affine profile without fluctuations that never collides stays at ~1e-8.
 constexpr double frozen_temperature = 1e-4;
 
 struct SteadyCheck {

@@ -1,4 +1,4 @@
-// The shear start of issue 24 (dem_coupling/deck/initial_state.hpp) and the tangential dashpot
+// The shear start (dem_coupling/deck/initial_state.hpp) and the tangential dashpot
 // key (material.tangential_damping), docs/dem_dataset.md.
 //  * A frictionless e 0.9 gas at φ 0.2 (cases/dem/gas_point.yaml: 300 spheres, stiff linear
 //    springs, constant volume), started from the streaming profile plus fluctuations and a
@@ -156,7 +156,7 @@ TEST(DemGasStart, RandomPackingAndStartTemperature) {
 }
 
 TEST(DemGasStart, FrozenBoundSeparatesFrozenFromColliding) {
-  // Issue 24's frozen gas: T/(dγ̇)² ~ 1e-8 (2.5e-5 of f2/f3); kinetic theory's smallest steady
+  // The frozen gas of the old start: T/(dγ̇)² ~ 1e-8 (2.5e-5 of f2/f3); kinetic theory's smallest steady
   // value is its dense limit 2 J/(15 (1-ε²)) >= 1/15.
   EXPECT_GT(frozen_temperature, 1e-6);
   EXPECT_LT(frozen_temperature, 1e-2 / 15.0);

@@ -49,7 +49,7 @@ TEST(DemShear, ImposedLinearProfileWithoutContactsHasZeroKineticStressAndTempera
   // Lees-Edwards boundary, where remap v shifts v_x by gd L_y). Everything kinetic must vanish.
   // The decks now insert spheres at random and start with velocity fluctuations
   // (initial_state.hpp): this test writes the lattice itself and asks for no fluctuations
-  // (initial_temperature 0), the frozen state of issue 24 on purpose.
+  // (initial_temperature 0), the frozen state of the old start, on purpose.
   ShearDeckParams p;
   p.material.size = SizeDistribution::monodisperse;
   p.particles = 216;  // full 6^3 lattice
