@@ -13,24 +13,12 @@
 #include "continuum/mpm/checkpoint.hpp"
 #include "continuum/mpm/multi_regime_material.hpp"
 #include "continuum/mpm/rheometer.hpp"
+#include "tests/mpm_rheometer/section4_settings.hpp"
 
 using namespace granflow;
 
 namespace {
-continuum::MultiRegimeSettings settings() {
-  continuum::MultiRegimeSettings s;
-  s.force_chains = true;
-  s.collisional = true;
-  s.liquid = true;
-  s.fluctuation_dissipation = true;
-  s.collisional_parameters.diameter = 2.3e-3;
-  s.collisional_parameters.particle_density = 2650;
-  s.collisional_parameters.restitution = 0.8;
-  s.collisional_parameters.jamming_fraction = 0.64;
-  s.liquid_parameters.viscosity = 1e-3;
-  s.liquid_parameters.maximum_packing = 0.64;
-  return s;
-}
+using granflow::testing::section4_settings;
 
 // A row of n points 1 mm apart (volume 1 mm²), pure shear at rate[i] without spin, `steps`
 // steps of dt; returns the material after the run and the solid points.
@@ -46,7 +34,7 @@ struct Row {
         Lxy(n_),
         Lyx(n_),
         vol(n_, 1e-6),
-        m(settings(), mpm::MultiRegimeInitialState{}) {
+        m(section4_settings(), mpm::MultiRegimeInitialState{}) {
     sp.resize(n);
     for (std::size_t p = 0; p < n; ++p) {
       sp.porosity[p] = 0.818 / 1.818;
@@ -144,7 +132,7 @@ TEST(MpmNonlocalMaterial, RestartReproducesTheUninterruptedRunBitForBit) {
   mpm::RheometerSpec spec;
   spec.cells_r = 3;
   spec.cells_theta = 24;
-  spec.model = settings();
+  spec.model = section4_settings();
   spec.liquid.bulk_modulus = 2.2e9;
   spec.liquid.viscosity = 1e-3;
   spec.liquid.drag_law = mpm::DragLaw::closure;

@@ -10,24 +10,12 @@
 #include "continuum/mpm/checkpoint.hpp"
 #include "continuum/mpm/multi_regime_material.hpp"
 #include "continuum/mpm/rheometer.hpp"
+#include "tests/mpm_rheometer/section4_settings.hpp"
 
 using namespace granflow;
 
 namespace {
-continuum::MultiRegimeSettings section4_settings() {
-  continuum::MultiRegimeSettings s;
-  s.force_chains = true;
-  s.collisional = true;
-  s.liquid = true;
-  s.fluctuation_dissipation = true;
-  s.collisional_parameters.diameter = 2.3e-3;
-  s.collisional_parameters.particle_density = 2650;
-  s.collisional_parameters.restitution = 0.8;
-  s.collisional_parameters.jamming_fraction = 0.64;
-  s.liquid_parameters.viscosity = 1e-3;
-  s.liquid_parameters.maximum_packing = 0.64;
-  return s;
-}
+using granflow::testing::section4_settings;
 }  // namespace
 
 TEST(MpmRheometerMaterial, BatchUpdateEqualsThePointModel) {
