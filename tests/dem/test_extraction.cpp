@@ -183,7 +183,7 @@ TEST(DemDeck, SeedDeterminesTheSampleAndTimeStepIsReported) {
 
 TEST(DemDeck, ImpossibleCasesAreRefused) {
   ShearDeckParams p;
-  p.solid_fraction = 0.7;
+  p.solid_fraction = 0.72;  // above the bound for soft grains, 0.70
   ASSERT_FALSE(check_shear_params(p).empty());
   EXPECT_EQ(check_shear_params(p)[0].first, "control.solid_fraction");
   p.solid_fraction = 0.55;
