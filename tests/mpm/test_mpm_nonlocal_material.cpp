@@ -129,19 +129,8 @@ TEST(MpmNonlocalMaterial, OneShearedPointSharesItsSofteningWithinTheLength) {
 // checkpointed with the state, so the restarted rheometer rebuilds the same lists and continues
 // bit for bit through the peak (as the local material does, tests/mpm_rheometer).
 TEST(MpmNonlocalMaterial, RestartReproducesTheUninterruptedRunBitForBit) {
-  mpm::RheometerSpec spec;
-  spec.cells_r = 3;
-  spec.cells_theta = 24;
-  spec.model = section4_settings();
-  spec.liquid.bulk_modulus = 2.2e9;
-  spec.liquid.viscosity = 1e-3;
-  spec.liquid.drag_law = mpm::DragLaw::closure;
-  spec.liquid.closure = spec.model.liquid_parameters;
-  spec.liquid.grain_diameter = spec.model.collisional_parameters.diameter;
-  spec.options.threads = 1;
+  mpm::RheometerSpec spec = granflow::testing::section4_small_rheometer();
   spec.options.pic_relaxation_time = 2.3e-4;
-  spec.options.liquid_volumetric_smoothing = true;
-  spec.options.material_conductivity = true;
   auto a = mpm::make_rheometer(spec);
   a.material->set_internal_length(4e-3);
   a.solver->run_steps(300);

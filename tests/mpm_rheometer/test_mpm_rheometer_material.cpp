@@ -104,19 +104,8 @@ TEST(MpmRheometerMaterial, RegistryBuildsItByName) {
 // through checkpoint.h5, so a restarted rheometer continues bit for bit through the skeleton's
 // collapse.
 TEST(MpmRheometerMaterial, RestartReproducesTheUninterruptedRunBitForBit) {
-  mpm::RheometerSpec spec;
-  spec.cells_r = 3;
-  spec.cells_theta = 24;
-  spec.model = section4_settings();
-  spec.liquid.bulk_modulus = 2.2e9;
-  spec.liquid.viscosity = 1e-3;
-  spec.liquid.drag_law = mpm::DragLaw::closure;
-  spec.liquid.closure = spec.model.liquid_parameters;
-  spec.liquid.grain_diameter = spec.model.collisional_parameters.diameter;
-  spec.options.threads = 1;
+  mpm::RheometerSpec spec = granflow::testing::section4_small_rheometer();
   spec.options.flip = 0.95;
-  spec.options.liquid_volumetric_smoothing = true;
-  spec.options.material_conductivity = true;
   const long first = 300, second = 300;  // 300 steps ≈ 1 ms: the peak of τ̄ lies in the second
   auto a = mpm::make_rheometer(spec);
   a.solver->run_steps(first);
