@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "analysis/calibration/calibration.hpp"
+#include "analysis/calibration/dem_table.hpp"
 #include "continuum/multi_regime/model_sections.hpp"
 #include "core/file_io.hpp"
 
@@ -54,20 +55,51 @@ core::Schema calibrate_schema() {
   s.add(continuum::liquid_section());
   s.add(continuum::force_chains_section(true));
   s.add(continuum::steady_section());
-  auto& data = s.section("data", "DEM datasets (docs/dem_dataset.md) to calibrate against");
+  auto& data = s.section("data",
+                         "DEM steady data to calibrate against: granflow result.h5 files "
+                         "(docs/dem_dataset.md) and/or text tables from any DEM code "
+                         "(docs/calibration.md, \"Bring your own DEM data\")");
   data.string("files",
-              "result.h5 paths separated by spaces or commas (relative: to the working directory, "
-              "then the case file's directory)")
-      .required();
+              "granflow result.h5 paths separated by spaces or commas (relative: to the working "
+              "directory, then the case file's directory); the protocol is the file's own");
+  data.string("table",
+              "text tables (CSV or whitespace-separated, '#' comments, one header row) separated "
+              "by spaces or commas (relative: to the case file's directory, then the working "
+              "directory); rows numbered after those of data.files");
+  data.choice("protocol", {"constant_pressure", "constant_volume"},
+              "the tables' DEM control: constant_pressure (σ_yy imposed: the model predicts φ, μ, "
+              "T) or constant_volume (φ imposed: the model predicts σ_yy, μ, T); absent: a table's "
+              "own '# protocol:' line, or inferred when it has σ_yy or φ but not both");
+  data.choice("units", {"si", "dimensionless"},
+              "the tables' units: si, or dimensionless (d = ρ_p = γ̇ = 1; needs material.diameter "
+              "and material.particle_density 1); absent: a table's '# units:' line, else si");
+  auto& columns = data.section(
+      "columns", "header name of each quantity where a table does not use granflow's name");
+  auto& errors = data.section("errors",
+                              "header name of each quantity's standard error (absent: NAME_err "
+                              "for a column NAME, where the table has one)");
+  for (const auto& q : table_quantities()) {
+    columns.string(q, "column holding " + q);
+    errors.string(q, "column holding the standard error of " + q);
+  }
+  auto& floor = data.section(
+      "error_floor",
+      "relative error floor per observable, added in quadrature to the data's own standard "
+      "error: σ² = σ_data² + (floor·y)² (needed where a table gives no error)");
+  for (const auto& o : observable_names())
+    floor.number(o, "1", "relative floor of " + o).default_value("0").at_least(0);
   data.string("observables",
               "observables fitted, separated by spaces: friction, solid_fraction, "
-              "scaled_temperature (T/(dγ̇)²); the first one is the one holdout.rel_err reports")
+              "scaled_temperature (T/(dγ̇)²), scaled_pressure (σ_yy/(ρ_p d² γ̇²)); each row tests "
+              "those its protocol predicts; the first one is the one holdout.rel_err reports")
       .default_value("friction");
   data.number_list("points", "",
-                   "indices (over all files, in order) of the rows to use; absent: all");
+                   "indices (over all files, then tables, in order) of the rows to use; absent: "
+                   "all");
   data.number("particle_friction", "",
               "use only the rows with this μ_p (a sweep over friction holds several materials; "
-              "ν_c and ε depend on μ_p); absent: all rows, each predicted with its own μ_p")
+              "ν_c and ε depend on μ_p); also the μ_p of a table's rows when it has no "
+              "particle_friction column; absent: all rows, each predicted with its own μ_p")
       .at_least(0);
   auto& fit = s.section("fit", "the least-squares problem");
   fit.string("parameters",
@@ -98,14 +130,17 @@ core::Schema calibrate_schema() {
   return s;
 }
 
-// More training residuals than fitted parameters, or the fit is refused at fit.parameters.
+// More training residuals than fitted parameters, or the fit is refused at fit.parameters. A
+// residual is a (point, observable) pair the point tests (its protocol predicts the observable).
 static void check_training_size(const core::Case& c, const CaseData& data, std::size_t parameters,
-                         std::size_t observables) {
-  const std::size_t points = data.training.size();
-  if (points * observables <= parameters)
+                                const std::vector<std::string>& observable_list) {
+  std::size_t residuals = 0;
+  for (const auto& point : data.training)
+    for (const auto& o : observable_list) residuals += tests(point, parse_observable(o)) ? 1 : 0;
+  if (residuals <= parameters)
     c.fail("fit.parameters",
-           fmt::format("{} parameters but only {} training residuals ({} points × {} observables)",
-                       parameters, points * observables, points, observables));
+           fmt::format("{} parameters but only {} training residuals ({} points, observables {})",
+                       parameters, residuals, data.training.size(), c.string("data.observables")));
 }
 
 void check_calibrate_case(const core::Case& c) {
@@ -145,7 +180,9 @@ void check_calibrate_case(const core::Case& c) {
     }
   if (!c.boolean("collisional.enabled"))
     c.fail("collisional.enabled", "true (the forward model is the collisional steady shear)");
-  if (split_names(c.string("data.files")).empty()) c.fail("data.files", "at least one path");
+  if (split_names(c.has("data.files") ? c.string("data.files") : "").empty() &&
+      split_names(c.has("data.table") ? c.string("data.table") : "").empty())
+    c.fail("data.files", "at least one path in data.files or data.table");
   if (c.string("holdout.mode") == "list" && !c.has("holdout.points"))
     c.fail("holdout.points", "a non-empty list of indices with holdout.mode: list");
 }
@@ -154,7 +191,7 @@ void check_calibrate_case(const core::Case& c) {
 // with exit 2 and leaves nothing behind (a rerun needs no --force).
 void check_calibrate_data(const core::Case& c) {
   check_training_size(c, read_case_data(c), split_names(c.string("fit.parameters")).size(),
-                      split_names(c.string("data.observables")).size());
+                      split_names(c.string("data.observables")));
 }
 
 int run_calibrate_case(core::RunContext& ctx) {
@@ -174,11 +211,43 @@ int run_calibrate_case(core::RunContext& ctx) {
   const CaseData data = read_case_data(c);
   for (const auto& line : data.notes) log.warn("{}", line);
   for (const auto& line : data.files) log.info("{}", line);
+  for (const auto& line : data.info) log.info("{}", line);
+  for (const auto& line : data.repeat_notes) log.info("{}", line);
   const std::vector<DataPoint>& used = data.used;
   const std::vector<char>& held = data.held;
   const std::vector<DataPoint>& training = data.training;
   const std::vector<DataPoint>& holdout = data.holdout;
-  check_training_size(c, data, names.size(), observables.size());
+  check_training_size(c, data, names.size(), split_names(c.string("data.observables")));
+  auto& sum = ctx.summary;
+  {  // the data: protocols, error model, repeats
+    int volume = 0;
+    for (const auto& p : used) volume += p.protocol == Protocol::constant_volume ? 1 : 0;
+    sum.set("data.rows", static_cast<double>(used.size()));
+    sum.set("data.rows_constant_volume", volume);
+    sum.set("data.rows_constant_pressure", static_cast<double>(used.size()) - volume);
+    std::string floors;
+    for (const auto o : observables) {
+      const std::string& on = observable_names()[static_cast<int>(o)];
+      const double f = c.number("data.error_floor." + on);
+      sum.set("data.error_floor." + on, f);
+      floors += fmt::format("{}{} {:g}", floors.empty() ? "" : ", ", on, f);
+    }
+    log.info("errors used: σ² = σ_data² + (floor·y)², relative floors: {}", floors);
+    sum.set("data.repeat_groups", data.repeat_groups);
+    for (int k = 0; k < observable_count; ++k)
+      if (std::isfinite(data.repeat_spread[k]))
+        sum.set("data.repeat_spread." + observable_names()[k], data.repeat_spread[k]);
+    if (data.repeat_groups > 0)
+      log.info("{} repeated conditions: pooled spread / stated σ = {}", data.repeat_groups,
+               [&] {
+                 std::string s;
+                 for (int k = 0; k < observable_count; ++k)
+                   if (std::isfinite(data.repeat_spread[k]))
+                     s += fmt::format("{}{} {:.3g}", s.empty() ? "" : ", ",
+                                      observable_names()[k], data.repeat_spread[k]);
+                 return s.empty() ? std::string("no stated errors") : s;
+               }());
+  }
 
   // ---- fit
   log.info("fitting {} on {} training points ({} held out), observables: {}",
@@ -203,7 +272,6 @@ int run_calibrate_case(core::RunContext& ctx) {
   log.info(
       "Levenberg-Marquardt status {} after {} evaluations; χ² {:.6g} -> {:.6g}, χ²_red = {:.4g}",
       r.status, r.evaluations, r.chi2_initial, r.chi2, r.chi2_red);
-  auto& sum = ctx.summary;
   for (std::size_t j = 0; j < names.size(); ++j) {
     log.info("  {} = {:.6g} ± {:.3g} (start {:.6g})", names[j], r.estimate[j], r.standard_error[j],
              r.initial[j]);
@@ -223,6 +291,19 @@ int run_calibrate_case(core::RunContext& ctx) {
   sum.set("fit.status", r.status);
   sum.set("fit.identifiable", r.identifiable ? 1 : 0);
   sum.set("fit.inside_domain", r.inside_domain ? 1 : 0);
+  {  // χ²_red with the data's own errors alone, at the same estimate (pairs without one left out)
+    const Chi2 own = chi2_at(calibrated, training, observables, true);
+    const int own_dof = own.residuals - static_cast<int>(names.size());
+    const double own_red = own_dof > 0 ? own.chi2 / own_dof : NAN;
+    sum.set("fit.chi2_own_errors", own.chi2);
+    sum.set("fit.residuals_own_errors", own.residuals);
+    sum.set("fit.residuals", static_cast<double>(r.residual_point.size()));
+    sum.set("fit.chi2_red_own_errors", own_red);
+    log.info(
+        "χ²_red = {:.4g} with the errors the fit used (floors included, {} residuals), {:.4g} with "
+        "the data's own errors alone ({} residuals have one)",
+        r.chi2_red, r.residual_point.size(), own_red, own.residuals);
+  }
   for (std::size_t k = 0; k < observables.size(); ++k) {
     const std::string& on = observable_names()[static_cast<int>(observables[k])];
     sum.set("train.rel_err." + on, mean_relative_error(calibrated, training, observables[k]));
@@ -263,17 +344,23 @@ int run_calibrate_case(core::RunContext& ctx) {
   out.write("/data/source", col([](const DataPoint& p) { return double(p.source); }), "1",
             "index of the data file (data.files order)");
   out.write("/data/row", col([](const DataPoint& p) { return double(p.row); }), "1",
-            "row in that file's /steady table");
+            "row in that file's /steady table (a text table: its data row)");
+  out.write("/data/protocol",
+            col([](const DataPoint& p) { return p.protocol == Protocol::constant_volume ? 1.0 : 0.0; }),
+            "1", "0: constant pressure (σ_yy imposed), 1: constant volume (φ imposed)");
   std::vector<double> training_flag;
   for (char h : held) training_flag.push_back(h ? 0.0 : 1.0);
   out.write("/data/training", training_flag, "1", "1: used in the fit, 0: held out");
-  const char* units[] = {"1", "1", "1"};
+  const char* units[] = {"1", "1", "1", "1"};
   for (int k = 0; k < observable_count; ++k) {
     const auto& on = observable_names()[k];
     out.write("/data/" + on, col([&](const DataPoint& p) { return p.value[k]; }), units[k],
               "DEM steady " + on);
     out.write("/data/" + on + "_err", col([&](const DataPoint& p) { return p.error[k]; }), units[k],
-              "DEM standard error of " + on);
+              "DEM standard error of " + on + " (0: none given)");
+    out.write("/data/" + on + "_fit_err",
+              col([&](const DataPoint& p) { return fit_error(p, Observable(k)); }), units[k],
+              "σ the fit uses for " + on + ": sqrt(err² + (floor·y)²)");
   }
   for (const auto& [group, model] : std::map<std::string, const CalibratedModel*>{
            {"uncalibrated", &start}, {"calibrated", &calibrated}}) {
@@ -290,10 +377,14 @@ int run_calibrate_case(core::RunContext& ctx) {
     for (const auto& s : states) I.push_back(s.ok ? s.inertial_number : NAN);
     out.write("/prediction/" + group + "/inertial_number", I, "1", "continuum I");
   }
-  std::vector<double> residuals(r.normalised_residuals.data(),
-                                r.normalised_residuals.data() + r.normalised_residuals.size());
+  std::vector<double> residuals(training.size() * observables.size(), NAN);
+  for (std::size_t j = 0; j < r.residual_point.size(); ++j)
+    residuals[static_cast<std::size_t>(r.residual_point[j]) * observables.size() +
+              static_cast<std::size_t>(r.residual_observable[j])] =
+        r.normalised_residuals[static_cast<Eigen::Index>(j)];
   out.write_matrix("/fit/normalised_residuals", residuals, training.size(), observables.size(), "1",
-                   "(y - f)/σ at the estimate, training points × observables");
+                   "(y - f)/σ at the estimate, training points × observables (NaN: not tested, e.g. the "
+                   "quantity the row's protocol imposes)");
   const auto vec = [](const Eigen::VectorXd& v) {
     return std::vector<double>(v.data(), v.data() + v.size());
   };
@@ -313,8 +404,10 @@ int run_calibrate_case(core::RunContext& ctx) {
   std::vector<std::string> comments;
   comments.push_back(
       fmt::format("Calibrated parameters (granflow kind: calibrate, run '{}').", c.name()));
-  comments.push_back(fmt::format("Data: {}; observables: {}; χ²_red = {:.4g}",
-                                 c.string("data.files"), c.string("data.observables"),
+  comments.push_back(fmt::format("Data: {}{}; observables: {}; χ²_red = {:.4g}",
+                                 c.has("data.files") ? c.string("data.files") : std::string(),
+                                 c.has("data.table") ? " " + c.string("data.table") : std::string(),
+                                 c.string("data.observables"),
                                  r.chi2_red));
   for (std::size_t j = 0; j < names.size(); ++j)
     comments.push_back(

@@ -117,8 +117,36 @@ double case_value(const CalibratedModel& m, const std::string& name) {
 
 const std::vector<std::string>& observable_names() {
   static const std::vector<std::string> names = {"friction", "solid_fraction",
-                                                 "scaled_temperature"};
+                                                 "scaled_temperature", "scaled_pressure"};
   return names;
+}
+
+const char* protocol_name(Protocol protocol) {
+  return protocol == Protocol::constant_volume ? "constant_volume" : "constant_pressure";
+}
+
+Protocol parse_protocol(const std::string& name) {
+  if (name == "constant_pressure") return Protocol::constant_pressure;
+  if (name == "constant_volume") return Protocol::constant_volume;
+  throw std::invalid_argument(fmt::format(
+      "unknown protocol '{}' (valid: constant_pressure, constant_volume)", name));
+}
+
+Observable imposed_observable(Protocol protocol) {
+  return protocol == Protocol::constant_volume ? Observable::solid_fraction
+                                               : Observable::scaled_pressure;
+}
+
+double fit_error(const DataPoint& point, Observable observable) {
+  const int k = static_cast<int>(observable);
+  const double floor = point.floor[k] * std::abs(point.value[k]);
+  return std::sqrt(point.error[k] * point.error[k] + floor * floor);
+}
+
+bool tests(const DataPoint& point, Observable observable) {
+  const int k = static_cast<int>(observable);
+  return observable != imposed_observable(point.protocol) && std::isfinite(point.value[k]) &&
+         fit_error(point, observable) > 0;
 }
 
 Observable parse_observable(const std::string& name) {
@@ -126,7 +154,9 @@ Observable parse_observable(const std::string& name) {
   for (std::size_t i = 0; i < names.size(); ++i)
     if (names[i] == name) return static_cast<Observable>(i);
   throw std::invalid_argument(fmt::format(
-      "unknown observable '{}' (valid: friction, solid_fraction, scaled_temperature)", name));
+      "unknown observable '{}' (valid: friction, solid_fraction, scaled_temperature, "
+      "scaled_pressure)",
+      name));
 }
 
 DemDataset read_dem_dataset(const std::filesystem::path& file, int source_index) {
@@ -144,6 +174,16 @@ DemDataset read_dem_dataset(const std::filesystem::path& file, int source_index)
   };
   out.diameter = core::read_number_attribute(file, "/steady", "diameter");
   out.particle_density = core::read_number_attribute(file, "/steady", "particle_density");
+  std::string control = "constant_pressure";  // datasets written before the attribute existed
+  try {
+    control = core::read_string_attribute(file, "/steady", "control");
+  } catch (const std::exception&) {  // no attribute: constant pressure, as before
+  }
+  try {
+    out.protocol = parse_protocol(control);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(fmt::format("{}: /steady attribute control: {}", file.string(), e.what()));
+  }
   const auto shear_rate = column("shear_rate"), sigma = column("normal_stress"),
              mu = column("friction"), mu_err = column("friction_err"),
              phi = column("solid_fraction"), phi_err = column("solid_fraction_err"),
@@ -157,6 +197,12 @@ DemDataset read_dem_dataset(const std::filesystem::path& file, int source_index)
   } catch (const std::exception&) {  // dry datasets have no /steady/viscosity
     viscosity.clear();
   }
+  std::vector<double> sigma_err;  // σ_yy's standard error (the scaled pressure's)
+  try {
+    sigma_err = core::read_dataset(file, "/steady/normal_stress_err");
+  } catch (const std::exception&) {  // written by every granflow DEM run; absent in older tables
+    sigma_err.clear();
+  }
   // One row per condition in every column: a shorter or longer column is a damaged dataset.
   const std::pair<const char*, const std::vector<double>*> columns[] = {
       {"normal_stress", &sigma},
@@ -169,9 +215,11 @@ DemDataset read_dem_dataset(const std::filesystem::path& file, int source_index)
       {"scaled_temperature", &T_scaled},
       {"particle_friction", &mu_p},
       {"inertial_number", &I},
-      {"viscosity", &viscosity}};
+      {"viscosity", &viscosity},
+      {"normal_stress_err", &sigma_err}};
   for (const auto& [name, values] : columns)
-    if (values->size() != shear_rate.size() && !(values == &viscosity && values->empty()))
+    if (values->size() != shear_rate.size() &&
+        !((values == &viscosity || values == &sigma_err) && values->empty()))
       throw std::runtime_error(fmt::format(
           "{}: /steady/{} has {} rows but /steady/shear_rate has {}; expected one row per "
           "condition in every column (docs/dem_dataset.md)",
@@ -189,11 +237,21 @@ DemDataset read_dem_dataset(const std::filesystem::path& file, int source_index)
     p.error[1] = phi_err[r];
     p.value[2] = T_scaled[r];
     p.error[2] = T[r] > 0 ? T_err[r] * T_scaled[r] / T[r] : NAN;  // same relative error as T
+    // p* = σ_yy/(ρ_p d² γ̇²) with the DEM's d and ρ_p, as its T* = T/(d γ̇)²
+    const double stress_unit =
+        out.particle_density * out.diameter * out.diameter * p.shear_rate * p.shear_rate;
+    p.value[3] = sigma[r] / stress_unit;
+    p.error[3] = sigma_err.empty() ? 0.0 : sigma_err[r] / stress_unit;
+    p.protocol = out.protocol;
     p.source = source_index;
     p.row = static_cast<int>(r);
-    bool usable = p.shear_rate > 0 && p.normal_stress > 0;
-    for (int k = 0; k < observable_count; ++k)
+    // Usable: the controls, and every observable the protocol predicts with its error bar.
+    const bool volume = out.protocol == Protocol::constant_volume;
+    bool usable = p.shear_rate > 0 && p.normal_stress > 0 && (!volume || p.value[1] > 0);
+    for (int k = 0; k < observable_count; ++k) {
+      if (Observable(k) == imposed_observable(out.protocol)) continue;
       usable = usable && std::isfinite(p.value[k]) && std::isfinite(p.error[k]) && p.error[k] > 0;
+    }
     if (usable)
       out.points.push_back(p);
     else
@@ -213,16 +271,21 @@ SteadyShearState predict(const CalibratedModel& model, const DataPoint& point) {
   // (= settings viscosity / reference viscosity, 1 before the fit).
   const bool own_viscosity = std::isfinite(point.liquid_viscosity) && model.settings.liquid &&
                              model.reference_liquid_viscosity > 0;
-  if (!own_friction && !own_viscosity)
-    return steady_simple_shear(model.settings, model.factors, point.shear_rate,
-                               point.normal_stress);
+  // Constant pressure: given p, predicts φ; constant volume: given φ, predicts p.
+  const auto at = [&](const continuum::MultiRegimeSettings& s) {
+    return point.protocol == Protocol::constant_volume
+               ? steady_simple_shear_at_solid_fraction(s, model.factors, point.shear_rate,
+                                                       point.value[1])
+               : steady_simple_shear(s, model.factors, point.shear_rate, point.normal_stress);
+  };
+  if (!own_friction && !own_viscosity) return at(model.settings);
   continuum::MultiRegimeSettings s = model.settings;
   if (own_friction) s.collisional_parameters.particle_friction = point.particle_friction;
   if (own_viscosity)
     s.liquid_parameters.viscosity = point.liquid_viscosity *
                                     model.settings.liquid_parameters.viscosity /
                                     model.reference_liquid_viscosity;
-  return steady_simple_shear(s, model.factors, point.shear_rate, point.normal_stress);
+  return at(s);
 }
 
 double predicted(const SteadyShearState& s, Observable observable) {
@@ -233,6 +296,8 @@ double predicted(const SteadyShearState& s, Observable observable) {
       return s.solid_fraction;
     case Observable::scaled_temperature:
       return s.scaled_temperature;
+    case Observable::scaled_pressure:
+      return s.scaled_pressure;
   }
   return NAN;
 }
@@ -286,8 +351,15 @@ FitResult fit_from(const CalibratedModel& start, const std::vector<std::string>&
   FitResult out;
   out.names = names;
   const int n = static_cast<int>(names.size());
-  const std::size_t K = observables.size();
-  const int m = static_cast<int>(data.size() * K);
+  // The residuals: the (point, observable) pairs the point tests (its protocol predicts the
+  // observable, the value is measured, σ > 0), point-major.
+  for (std::size_t i = 0; i < data.size(); ++i)
+    for (std::size_t k = 0; k < observables.size(); ++k)
+      if (tests(data[i], observables[k])) {
+        out.residual_point.push_back(static_cast<int>(i));
+        out.residual_observable.push_back(static_cast<int>(k));
+      }
+  const int m = static_cast<int>(out.residual_point.size());
   if (m <= n)
     throw std::invalid_argument(fmt::format(
         "{} residuals for {} parameters: need more data points or observables than parameters", m,
@@ -312,20 +384,19 @@ FitResult fit_from(const CalibratedModel& start, const std::vector<std::string>&
   constexpr double unsupported_condition = 1e3;
   auto residuals = [&](const Eigen::VectorXd& theta, Eigen::VectorXd& r) {
     const CalibratedModel model = apply(start, names, theta);
-    for (std::size_t i = 0; i < data.size(); ++i) {
-      const auto& point = data[i];
-      SteadyShearState s;
-      try {
-        s = predict(model, point);
-      } catch (const std::exception&) {
-        s.ok = false;  // ν_c or e_r outside a closure's domain
+    SteadyShearState s;
+    for (int j = 0; j < m; ++j) {
+      const auto& point = data[static_cast<std::size_t>(out.residual_point[j])];
+      if (j == 0 || out.residual_point[j] != out.residual_point[j - 1]) {
+        try {
+          s = predict(model, point);
+        } catch (const std::exception&) {
+          s = SteadyShearState{};  // ν_c or e_r outside a closure's domain
+        }
       }
-      for (std::size_t k = 0; k < K; ++k) {
-        const int o = static_cast<int>(observables[k]);
-        r[static_cast<Eigen::Index>(i * K + k)] =
-            s.ok ? (point.value[o] - predicted(s, observables[k])) / point.error[o]
-                 : unsupported_condition;
-      }
+      const Observable o = observables[static_cast<std::size_t>(out.residual_observable[j])];
+      r[j] = s.ok ? (point.value[static_cast<int>(o)] - predicted(s, o)) / fit_error(point, o)
+                  : unsupported_condition;
     }
   };
   analysis::LeastSquaresOptions options;
@@ -367,110 +438,40 @@ FitResult fit_from(const CalibratedModel& start, const std::vector<std::string>&
 }
 }  // namespace
 
-std::vector<std::string> split_names(const std::string& text) {
-  std::vector<std::string> out;
-  std::string item;
-  std::istringstream in(text);
-  while (in >> item) {
-    std::istringstream parts(item);
-    std::string part;
-    while (std::getline(parts, part, ','))
-      if (!part.empty()) out.push_back(part);
-  }
-  return out;
-}
-
-std::filesystem::path resolve_data_path(const core::Case& c, const std::string& name) {
-  const std::filesystem::path p(name);
-  if (p.is_absolute() || std::filesystem::exists(p)) return p;
-  // Then beside the case file. Never the source tree the binary was built from: that may be
-  // another checkout, whose data would be used without a word.
-  const auto beside_case = std::filesystem::path(c.origin()).parent_path() / p;
-  if (std::filesystem::exists(beside_case)) return beside_case;
-  return p;  // reported as missing by read_dem_dataset
-}
-
-CalibratedModel read_case_model(const core::Case& c) {
-  CalibratedModel m;
-  m.settings = continuum::read_multi_regime_settings(c);
-  m.reference_liquid_viscosity = m.settings.liquid_parameters.viscosity;
-  if (c.schema().child("fit") && c.schema().child("fit")->child("fluctuation_dissipation_factor"))
-    m.factors.fluctuation_dissipation = c.number("fit.fluctuation_dissipation_factor");
-  if (c.schema().child("steady")) {
-    m.factors.contact_production = c.number("steady.contact_production");
-    m.factors.friction_rise = c.number("steady.friction_rise");
-    m.factors.friction_rise_I0 = c.number("steady.friction_rise_I0");
-    m.factors.viscous_dilatancy = c.number("steady.viscous_dilatancy");
-    m.factors.skeleton_from_model = c.string("steady.skeleton_stress") == "force_chain_model";
-  }
-  m.factors.mixed_number_alpha = c.number("liquid.trulsson_alpha");
-  return m;
-}
-
-CaseData read_case_data(const core::Case& c) {
-  CaseData out;
-  std::vector<DataPoint> all;
-  const auto files = split_names(c.string("data.files"));
-  const auto& col = continuum::read_multi_regime_settings(c).collisional_parameters;
-  for (std::size_t f = 0; f < files.size(); ++f) {
-    const auto path = resolve_data_path(c, files[f]);
-    DemDataset set;
-    try {
-      set = read_dem_dataset(path, static_cast<int>(f));
-    } catch (const std::exception& e) {
-      c.fail("data.files", e.what());
-    }
-    for (const auto& why : set.skipped) out.notes.push_back("skipped " + why);
-    out.files.push_back(fmt::format("{}: {} usable conditions", path.string(), set.points.size()));
-    if (std::abs(set.diameter / col.diameter - 1) > 0.05 ||
-        std::abs(set.particle_density / col.particle_density - 1) > 1e-6)
-      out.notes.push_back(
-          fmt::format("{}: DEM d = {:g} m, ρ_p = {:g} kg/m³ differ from the case's material; the "
-                      "case's is used",
-                      path.string(), set.diameter, set.particle_density));
-    for (const auto& point : set.points)
-      if (!c.has("data.particle_friction") ||
-          std::abs(point.particle_friction - c.number("data.particle_friction")) < 1e-12)
-        all.push_back(point);
-  }
-  if (all.empty())
-    c.fail("data.files", "datasets with usable rows (and data.particle_friction matching one)");
-  if (!c.has("data.points")) out.used = all;
-  if (c.has("data.points"))
-    for (double v : c.number_list("data.points")) {
-      const auto i = static_cast<long>(v);
-      if (i < 0 || i >= static_cast<long>(all.size()) || static_cast<double>(i) != v)
-        c.fail("data.points", fmt::format("integer indices in [0, {})", all.size()));
-      out.used.push_back(all[static_cast<std::size_t>(i)]);
-    }
-  // every_other holds out the 2nd, 4th, ... used point, as kind: calibrate
-  out.held.assign(out.used.size(), 0);
-  const std::string mode = c.string("holdout.mode");
-  if (mode == "every_other")
-    for (std::size_t i = 1; i < out.used.size(); i += 2) out.held[i] = 1;
-  if (mode == "list")
-    for (double v : c.number_list("holdout.points")) {
-      const auto i = static_cast<long>(v);
-      if (i < 0 || i >= static_cast<long>(out.used.size()))
-        c.fail("holdout.points", fmt::format("indices in [0, {})", out.used.size()));
-      out.held[static_cast<std::size_t>(i)] = 1;
-    }
-  for (std::size_t i = 0; i < out.used.size(); ++i)
-    (out.held[i] ? out.holdout : out.training).push_back(out.used[i]);
-  return out;
-}
-
 double mean_relative_error(const CalibratedModel& model, const std::vector<DataPoint>& data,
                            Observable observable) {
-  if (data.empty()) return NAN;
   double sum = 0;
+  int count = 0;
   const int o = static_cast<int>(observable);
   for (const auto& point : data) {
+    if (observable == imposed_observable(point.protocol) || !std::isfinite(point.value[o]))
+      continue;
     const auto s = predict(model, point);
     if (!s.ok) return NAN;
     sum += std::abs(predicted(s, observable) - point.value[o]) / std::abs(point.value[o]);
+    ++count;
   }
-  return sum / static_cast<double>(data.size());
+  return count ? sum / count : NAN;
+}
+
+Chi2 chi2_at(const CalibratedModel& model, const std::vector<DataPoint>& data,
+             const std::vector<Observable>& observables, bool own_errors_only) {
+  Chi2 out;
+  for (const auto& point : data) {
+    SteadyShearState s;
+    bool predicted_once = false;
+    for (const auto o : observables) {
+      const int k = static_cast<int>(o);
+      if (!tests(point, o) || (own_errors_only && !(point.error[k] > 0))) continue;
+      if (!predicted_once) s = predict(model, point), predicted_once = true;
+      if (!s.ok) return {NAN, out.residuals};
+      const double sigma = own_errors_only ? point.error[k] : fit_error(point, o);
+      const double r = (point.value[k] - predicted(s, o)) / sigma;
+      out.chi2 += r * r;
+      ++out.residuals;
+    }
+  }
+  return out;
 }
 
 }  // namespace granflow::calibration

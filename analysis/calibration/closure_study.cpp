@@ -355,14 +355,17 @@ int run_closure_study_command(const ClosureStudyCommand& command, int rank) {
   try {
     study = load_closure_study(command.case_file, command.overrides);
     data = read_study_data(*study.combinations.front().run_case);
+    std::size_t residuals = 0;  // the (point, observable) pairs the points test
+    for (const auto& point : data.training)
+      for (const auto o : study.observables) residuals += tests(point, o) ? 1 : 0;
     for (const auto& comb : study.combinations)
-      if (data.training.size() * study.observables.size() <= comb.parameters.size())
+      if (residuals <= comb.parameters.size())
         comb.run_case->fail(
             "fit.parameters",
-            fmt::format("fewer parameters than training residuals ({} parameters, {} points × {} "
-                        "observables) in combination {}",
-                        comb.parameters.size(), data.training.size(), study.observables.size(),
-                        comb.label));
+            fmt::format("fewer parameters than training residuals ({} parameters, {} residuals "
+                        "of {} points × {} observables) in combination {}",
+                        comb.parameters.size(), residuals, data.training.size(),
+                        study.observables.size(), comb.label));
   } catch (const core::CaseError& e) {
     if (lead) std::cerr << "error: " << e.what() << "\n";
     return core::exit_bad_input;

@@ -180,7 +180,9 @@ void write_report_text(const Study& t, bool plotted, std::ostream& out) {
   out << "# Closure study: " << s.name << "\n\n"
       << fmt::format("Case `{}`, data `{}`: {} points, {} fitted, {} held out (holdout.mode: {}); "
                      "observables {}; fit.parameters `{}`. {} combinations in {:.1f} s.\n\n",
-                     s.file.string(), base.string("data.files"), t.data.used.size(),
+                     s.file.string(),
+                     base.has("data.files") ? base.string("data.files") : base.string("data.table"),
+                     t.data.used.size(),
                      t.data.training.size(), t.data.holdout.size(), base.string("holdout.mode"),
                      base.string("data.observables"), base.string("fit.parameters"),
                      t.fits.size(), t.wall_s)

@@ -156,60 +156,123 @@ double steady_sqrt_temperature_at(const continuum::MultiRegimeSettings& settings
   return solve_sqrt_temperature(p.diameter, c.f2, c.f3, lambda, speed, shear_rate);
 }
 
+namespace {
+
+// The in-parallel state at a given shear rate, with the quantities that depend on the flow's
+// normal stress p (the friction rise through X, the viscous dilatancy through J, and the contact
+// work through μ_FC) evaluated at `p_flow`: the imposed p at constant pressure, the unknown p
+// at constant volume.
+struct InParallel {
+  const continuum::MultiRegimeSettings& settings;
+  const ModelFactors& factors;
+  double shear_rate;
+  bool chains = false;
+  double rho_p = 0, d = 0, nu_max = 0;
+  model::force_chains::ForceChainParameters line{};
+  double r_p = 1, mu_fc = 0, production_per_pressure = 0;
+
+  InParallel(const continuum::MultiRegimeSettings& s, const ModelFactors& f, double rate,
+             double p_flow)
+      : settings(s), factors(f), shear_rate(rate) {
+    if (!settings.collisional)
+      throw std::invalid_argument(
+          "steady simple shear: needs collisional.enabled (the collisions carry T and, without "
+          "force chains, the whole normal stress)");
+    chains = settings.force_chains;
+    const auto& fc = settings.force_chain_parameters;
+    if (chains && !(fc.lambda_c > 0))
+      throw std::invalid_argument(
+          "steady in-parallel simple shear: needs force_chains.lambda_c > 0 (a critical state "
+          "line with a slope, so that p_FC(e) is a function)");
+    const auto& p = settings.collisional_parameters;
+    rho_p = p.particle_density, d = p.diameter;
+    nu_max = model::maximum_solid_fraction(p);
+    // μ_FC: the critical state's, plus the optional rise with the mixed number
+    // X = sqrt(I² + J/α) of p_flow (X = I dry).
+    const double imposed_I = shear_rate * d / std::sqrt(p_flow / rho_p);
+    const double imposed_J =
+        settings.liquid ? settings.liquid_parameters.viscosity * shear_rate / p_flow : 0.0;
+    const double mixed_number =
+        std::sqrt(imposed_I * imposed_I + imposed_J / factors.mixed_number_alpha);
+    // The critical state line, moved looser by the optional viscous dilatancy e_Γ + a_J √J.
+    line = fc;
+    line.e_Gamma += factors.viscous_dilatancy * std::sqrt(imposed_J);
+    // The skeleton's stress state: τ_FC = μ_FC σ_yy,FC, p_FC = r_p σ_yy,FC (p_FC on the line).
+    SkeletonShearState skeleton_state;
+    if (chains) {
+      if (factors.skeleton_from_model)
+        skeleton_state = skeleton_simple_shear_state(fc);
+      else
+        skeleton_state.friction = critical_state_friction(fc);
+    }
+    r_p = skeleton_state.pressure_ratio;
+    mu_fc = chains ? skeleton_state.friction +
+                         factors.friction_rise / (1.0 + factors.friction_rise_I0 / mixed_number)
+                   : 0.0;
+    production_per_pressure =
+        chains ? factors.contact_production * mu_fc * shear_rate / rho_p : 0.0;
+  }
+  // σ_yy,FC(ν) from the line's mean stress
+  double skeleton(double nu) const {
+    return chains ? critical_state_pressure(line, nu) / r_p : 0.0;
+  }
+  double sqrt_T(double nu, double p_fc) const {
+    return steady_sqrt_temperature_at(settings, factors, nu, shear_rate,
+                                      production_per_pressure * p_fc);
+  }
+  // σ_yy,FC(ν) + p_COL(ν, s(ν)): the normal stress the state at ν carries
+  double pressure(double nu) const {
+    const double p_fc = skeleton(nu);
+    const double s = sqrt_T(nu, p_fc);
+    return p_fc + rho_p * model::collisional_coefficients(settings.collisional_parameters, nu).f1 *
+                      s * s;
+  }
+  // The state at ν (its normal stress is pressure(ν)).
+  SteadyShearState state(double nu) const {
+    SteadyShearState out;
+    const auto& p = settings.collisional_parameters;
+    const double p_fc = skeleton(nu);
+    const double s = sqrt_T(nu, p_fc);
+    const auto c = model::collisional_coefficients(p, nu);
+    const double p_col = rho_p * c.f1 * s * s;
+    const double p_total = p_fc + p_col;
+    out.force_chain_normal_stress = p_fc;
+    out.collisional_pressure = p_col;
+    out.force_chain_shear_stress = mu_fc * p_fc;
+    out.collisional_shear_stress = rho_p * d * c.f2 * s * shear_rate;  // τ_COL = η_COL γ̇
+    if (settings.liquid) {
+      if (nu >= model::maximum_mixture_solid_fraction(settings.liquid_parameters)) {
+        out.why = "steady solid fraction above the maximum packing of η(ν)";
+        return out;
+      }
+      out.liquid_shear_stress =
+          model::mixture_viscosity(settings.liquid_parameters, nu) * shear_rate;  // τ_L
+      out.viscous_number = settings.liquid_parameters.viscosity * shear_rate / p_total;
+    }
+    const double tau =
+        out.force_chain_shear_stress + out.collisional_shear_stress + out.liquid_shear_stress;
+    out.ok = std::isfinite(tau) && std::isfinite(s) && p_total > 0;
+    out.solid_fraction = nu;
+    out.granular_temperature = s * s;
+    out.scaled_temperature = s * s / (d * d * shear_rate * shear_rate);
+    out.shear_stress = tau;
+    out.normal_stress = p_total;
+    out.scaled_pressure = p_total / (rho_p * d * d * shear_rate * shear_rate);
+    out.friction = tau / p_total;
+    out.inertial_number = shear_rate * d / std::sqrt(p_total / rho_p);
+    if (!out.ok) out.why = "non-finite steady state";
+    return out;
+  }
+};
+
+}  // namespace
+
 SteadyShearState steady_simple_shear(const continuum::MultiRegimeSettings& settings,
                                      const ModelFactors& factors, double shear_rate,
                                      double normal_stress) {
-  if (!settings.collisional)
-    throw std::invalid_argument(
-        "steady simple shear: needs collisional.enabled (the collisions carry T and, without "
-        "force chains, the whole normal stress)");
-  const bool chains = settings.force_chains;
-  const auto& fc = settings.force_chain_parameters;
-  if (chains && !(fc.lambda_c > 0))
-    throw std::invalid_argument(
-        "steady in-parallel simple shear: needs force_chains.lambda_c > 0 (a critical state line "
-        "with a slope, so that p_FC(e) is a function)");
-  const auto& p = settings.collisional_parameters;
-  const double rho_p = p.particle_density, d = p.diameter;
-  const double nu_max = model::maximum_solid_fraction(p);
-  // μ_FC: the critical state's, plus the optional rise with the imposed condition's mixed number
-  // X = sqrt(I² + J/α) (X = I dry).
-  const double imposed_I = shear_rate * d / std::sqrt(normal_stress / rho_p);
-  const double imposed_J =
-      settings.liquid ? settings.liquid_parameters.viscosity * shear_rate / normal_stress : 0.0;
-  const double mixed_number =
-      std::sqrt(imposed_I * imposed_I + imposed_J / factors.mixed_number_alpha);
-  // The critical state line, moved looser by the optional viscous dilatancy e_Γ + a_J √J.
-  model::force_chains::ForceChainParameters line = fc;
-  line.e_Gamma += factors.viscous_dilatancy * std::sqrt(imposed_J);
-  // The skeleton's stress state: τ_FC = μ_FC σ_yy,FC, p_FC = r_p σ_yy,FC (p_FC on the line).
-  SkeletonShearState skeleton_state;
-  if (chains) {
-    if (factors.skeleton_from_model)
-      skeleton_state = skeleton_simple_shear_state(fc);
-    else
-      skeleton_state.friction = critical_state_friction(fc);
-  }
-  const double r_p = skeleton_state.pressure_ratio;
-  const double mu_fc =
-      chains ? skeleton_state.friction +
-                   factors.friction_rise / (1.0 + factors.friction_rise_I0 / mixed_number)
-             : 0.0;
-  const double production_per_pressure =
-      chains ? factors.contact_production * mu_fc * shear_rate / rho_p : 0.0;
-  // σ_yy,FC(ν) from the line's mean stress
-  const auto skeleton = [&](double nu) {
-    return chains ? critical_state_pressure(line, nu) / r_p : 0.0;
-  };
-  const auto sqrt_T = [&](double nu, double p_fc) {
-    return steady_sqrt_temperature_at(settings, factors, nu, shear_rate,
-                                      production_per_pressure * p_fc);
-  };
-  const auto pressure = [&](double nu) {
-    const double p_fc = skeleton(nu);
-    const double s = sqrt_T(nu, p_fc);
-    return p_fc + rho_p * model::collisional_coefficients(p, nu).f1 * s * s;
-  };
+  const InParallel model(settings, factors, shear_rate, normal_stress);
+  const double nu_max = model.nu_max;
+  const auto pressure = [&](double nu) { return model.pressure(nu); };
   SteadyShearState out;
   // Dense branch: from the minimum of p(ν) (coarse scan) up to ν_max, where p_COL -> ∞.
   constexpr int scan = 100;
@@ -236,36 +299,73 @@ SteadyShearState steady_simple_shear(const continuum::MultiRegimeSettings& setti
     if (mid <= nu_lo || mid >= nu_hi) break;
     (pressure(mid) < normal_stress ? nu_lo : nu_hi) = mid;
   }
-  const double nu = 0.5 * (nu_lo + nu_hi);
-  const double p_fc = skeleton(nu);
-  const double s = sqrt_T(nu, p_fc);
-  const auto c = model::collisional_coefficients(p, nu);
-  const double p_col = rho_p * c.f1 * s * s;
-  const double p_total = p_fc + p_col;
-  out.force_chain_normal_stress = p_fc;
-  out.collisional_pressure = p_col;
-  out.force_chain_shear_stress = mu_fc * p_fc;
-  out.collisional_shear_stress = rho_p * d * c.f2 * s * shear_rate;  // τ_COL = η_COL γ̇
-  if (settings.liquid) {
-    if (nu >= model::maximum_mixture_solid_fraction(settings.liquid_parameters)) {
-      out.why = "steady solid fraction above the maximum packing of η(ν)";
+  return model.state(0.5 * (nu_lo + nu_hi));
+}
+
+SteadyShearState steady_simple_shear_at_solid_fraction(
+    const continuum::MultiRegimeSettings& settings, const ModelFactors& factors,
+    double shear_rate, double solid_fraction) {
+  SteadyShearState out;
+  {
+    const InParallel probe(settings, factors, shear_rate, 1.0);  // checks the settings
+    if (!(solid_fraction > 0 && solid_fraction < probe.nu_max)) {
+      out.why = "solid fraction outside (0, ν_max): no steady state carries it";
       return out;
     }
-    out.liquid_shear_stress =
-        model::mixture_viscosity(settings.liquid_parameters, nu) * shear_rate;  // τ_L
-    out.viscous_number = settings.liquid_parameters.viscosity * shear_rate / p_total;
   }
-  const double tau =
-      out.force_chain_shear_stress + out.collisional_shear_stress + out.liquid_shear_stress;
-  out.ok = std::isfinite(tau) && std::isfinite(s) && p_total > 0;
-  out.solid_fraction = nu;
-  out.granular_temperature = s * s;
-  out.scaled_temperature = s * s / (d * d * shear_rate * shear_rate);
-  out.shear_stress = tau;
-  out.friction = tau / p_total;
-  out.inertial_number = shear_rate * d / std::sqrt(p_total / rho_p);
-  if (!out.ok) out.why = "non-finite steady state";
-  return out;
+  // The normal stress the state at ν carries, with the p-dependent terms evaluated at p.
+  const auto carried = [&](double p) {
+    return InParallel(settings, factors, shear_rate, p).pressure(solid_fraction);
+  };
+  const bool depends_on_p =
+      settings.force_chains &&
+      (factors.friction_rise != 0 || (settings.liquid && factors.viscous_dilatancy != 0));
+  double p = carried(1.0);  // exact when nothing depends on p
+  if (depends_on_p) {
+    // G(x) = ln P(e^x) - x, P = carried: P does not rise with p (the friction rise and the
+    // dilatancy fall with X and J, which fall with p), so G falls strictly: one root. Bracket it
+    // by doubling the step in x from ln P(1), then bisection with a secant step inside the
+    // bracket (regula falsi, Illinois variant) to |Δx| ≤ 1e-13.
+    const auto G = [&](double x) { return std::log(carried(std::exp(x))) - x; };
+    double x = std::log(p), g = G(x);
+    double step = g > 0 ? 1.0 : -1.0;
+    double x_other = x + step, g_other = G(x_other);
+    for (int i = 0; i < 60 && (g > 0) == (g_other > 0) && std::isfinite(g_other); ++i) {
+      x = x_other, g = g_other;
+      step *= 2.0;
+      x_other = x + step, g_other = G(x_other);
+    }
+    if (!std::isfinite(g) || !std::isfinite(g_other) || (g > 0) == (g_other > 0)) {
+      out.why = "no normal stress carries the solid fraction (no root of the shared stress)";
+      return out;
+    }
+    double a = x, ga = g, b = x_other, gb = g_other;
+    int side = 0;
+    for (int i = 0; i < 200 && std::abs(b - a) > 1e-13; ++i) {
+      double c = (a * gb - b * ga) / (gb - ga);
+      if (!(c > std::min(a, b) && c < std::max(a, b))) c = 0.5 * (a + b);
+      const double gc = G(c);
+      if (gc == 0) {
+        a = b = c;
+        break;
+      }
+      if ((gc > 0) == (ga > 0)) {
+        a = c, ga = gc;
+        if (side == -1) gb *= 0.5;
+        side = -1;
+      } else {
+        b = c, gb = gc;
+        if (side == 1) ga *= 0.5;
+        side = 1;
+      }
+    }
+    p = std::exp(0.5 * (a + b));
+  }
+  if (!(p > 0) || !std::isfinite(p)) {
+    out.why = "non-finite normal stress at the solid fraction";
+    return out;
+  }
+  return InParallel(settings, factors, shear_rate, p).state(solid_fraction);
 }
 
 }  // namespace granflow::calibration

@@ -94,6 +94,9 @@ struct SteadyShearState {
   double granular_temperature = 0;       // T, m²/s²
   double scaled_temperature = 0;         // T / (d γ̇)²
   double shear_stress = 0;               // τ = τ_FC + τ_COL + τ_L, Pa
+  double normal_stress = 0;              // σ_yy = σ_yy,FC + p_COL, Pa (the imposed p at constant
+                                         // pressure, the predicted one at constant volume)
+  double scaled_pressure = 0;            // σ_yy / (ρ_p d² γ̇²)
   double force_chain_normal_stress = 0;  // σ_yy,FC (= p_FC on the line with lode_zero), Pa
   double collisional_pressure = 0;       // p_COL = ρ_p f1 T, Pa
   double force_chain_shear_stress = 0;   // τ_FC = μ_FC p_FC, Pa
@@ -109,6 +112,22 @@ struct SteadyShearState {
 SteadyShearState steady_simple_shear(const continuum::MultiRegimeSettings& settings,
                                      const ModelFactors& factors, double shear_rate,
                                      double normal_stress);
+
+// Steady state at (γ̇, ν), constant volume: the same two equations with ν given and the normal
+// stress unknown. The shared normal stress is explicit in ν,
+//     p = σ_yy,FC(ν) + ρ_p f1(ν) s(ν)²,
+// except through the terms that depend on the flow's own p: the friction rise (X = I or
+// sqrt(I² + J/α)), the contact work (through μ_FC) and the viscous dilatancy (J). Without them p
+// is evaluated directly; with them p is the root of G(x) = ln P(ν; e^x) - x, x = ln p, where P is
+// the right side above with those terms at p. P does not rise with p, so G falls strictly and
+// the root is unique: bracketed by doubling steps in x, then regula falsi (Illinois) to
+// |Δx| ≤ 1e-13 (relative 1e-13 in p). On the dense branch this is the constant-pressure state at
+// that p (tests/calibration/test_table_protocols.cpp: φ back to 1e-12); unlike it, a given ν on
+// the dilute branch (below the minimum of p(ν)) has a state too, as a constant-volume DEM has.
+// ok = false for ν outside (0, ν_max) or, immersed, at or above the maximum packing of η(ν).
+SteadyShearState steady_simple_shear_at_solid_fraction(
+    const continuum::MultiRegimeSettings& settings, const ModelFactors& factors,
+    double shear_rate, double solid_fraction);
 
 // s = T^½ solving the energy balance above at ν (exposed for tests), with an extra production
 // by the contacts W = α_FC τ_FC γ̇ / ρ_p (m³/s³ per unit density; 0 without it).
