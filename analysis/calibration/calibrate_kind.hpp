@@ -8,6 +8,8 @@ namespace granflow::calibration {
 
 core::Schema calibrate_schema();
 void check_calibrate_case(const core::Case& c);
+// The data the case reads (files and tables), checked before the run directory exists.
+void check_calibrate_data(const core::Case& c);
 int run_calibrate_case(core::RunContext& ctx);
 
 // Registers kind `calibrate` (the CLI calls this from app/registry.cpp).

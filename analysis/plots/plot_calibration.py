@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """PNG plots of a `kind: calibrate` run (analysis/calibration): DEM data with error bars against
-the continuum steady simple shear before and after calibration, per observable vs I
-(calibration.png), and the normalised residuals of the fit (residuals.png).
+the continuum steady simple shear before and after calibration, per fitted observable vs I
+(calibration.png), and the normalised residuals of the fit (residuals.png). A row shows the
+observables its protocol predicts (constant pressure: φ, μ, T*; constant volume: p*, μ, T*).
 Usage: plot_calibration.py RUN_DIR"""
 import os
 import sys
@@ -17,28 +18,40 @@ LABELS = {
     "friction": "μ = τ/σ_yy",
     "solid_fraction": "φ",
     "scaled_temperature": "T / (d γ̇)²",
+    "scaled_pressure": "σ_yy / (ρ_p d² γ̇²)",
 }
+# the observable each protocol imposes (/data/protocol: 0 constant pressure, 1 constant volume)
+IMPOSED = {0: "scaled_pressure", 1: "solid_fraction"}
 
 
 def main(run):
     with h5py.File(os.path.join(run, "result.h5"), "r") as h5:
         d = h5["data"]
         I = d["inertial_number"][:]
-        train = d["training"][:] > 0.5
-        fig, axes = plt.subplots(1, 3, figsize=(14, 4))
-        for ax, name in zip(axes, ["friction", "solid_fraction", "scaled_temperature"]):
-            y, err = d[name][:], d[name + "_err"][:]
+        protocol = d["protocol"][:] if "protocol" in d else np.zeros(len(I))
+        attr = h5["fit"].attrs["observables"]
+        fitted = (attr.decode() if isinstance(attr, bytes) else str(attr)).split()
+        names = [n for n in LABELS if n in fitted] or list(LABELS)[:3]
+        fig, axes = plt.subplots(1, len(names), figsize=(4.7 * len(names), 4), squeeze=False)
+        axes = axes[0]
+        for ax, name in zip(axes, names):
+            tested = np.array([IMPOSED[int(k)] != name for k in protocol]) & np.isfinite(d[name][:])
+            train = (d["training"][:] > 0.5) & tested
+            held = (d["training"][:] <= 0.5) & tested
+            y = d[name][:]
+            err = d[name + "_fit_err"][:] if name + "_fit_err" in d else d[name + "_err"][:]
             ax.errorbar(I[train], y[train], yerr=err[train], fmt="ko", ms=4, capsize=2,
                         label="DEM (fitted)")
-            if np.any(~train):
-                ax.errorbar(I[~train], y[~train], yerr=err[~train], fmt="o", mfc="white",
+            if np.any(held):
+                ax.errorbar(I[held], y[held], yerr=err[held], fmt="o", mfc="white",
                             mec="k", ecolor="k", ms=5, capsize=2, label="DEM (held out)")
             order = np.argsort(I)
+            order = order[tested[order]]
             for group, style in (("uncalibrated", "b--"), ("calibrated", "r-")):
                 pred = h5["prediction"][group][name][:]
                 ax.plot(I[order], pred[order], style, marker=".", label=f"continuum, {group}")
             ax.set_xscale("log")
-            if name == "scaled_temperature":
+            if name in ("scaled_temperature", "scaled_pressure"):
                 ax.set_yscale("log")
             ax.set(xlabel="inertial number I (DEM)", ylabel=LABELS[name])
         axes[0].legend(fontsize=8)
@@ -52,10 +65,11 @@ def main(run):
         r = h5["fit"]["normalised_residuals"][:]
         if r.ndim == 1:
             r = r[:, None]
-        obs = str(h5["fit"].attrs["observables"]).split()
+        obs = fitted
         fig, ax = plt.subplots(figsize=(6, 3.8))
+        training = d["training"][:] > 0.5
         for k in range(r.shape[1]):
-            ax.plot(I[train], r[:, k], "o", label=obs[k] if k < len(obs) else str(k))
+            ax.plot(I[training], r[:, k], "o", label=obs[k] if k < len(obs) else str(k))
         ax.axhline(0, color="k", lw=0.8)
         for s in (-2, 2):
             ax.axhline(s, color="grey", ls=":", lw=0.8)
