@@ -243,17 +243,18 @@ DemTable read_dem_table(const TableSpec& spec) {
     const auto number = [&, line = line, &fields = fields](int c, const std::string& quantity,
                                                             const char* range, auto accept) {
       const std::string& f = fields[static_cast<std::size_t>(c)];
+      const std::string& name = header[static_cast<std::size_t>(c)];
+      const std::string column =
+          name == quantity ? fmt::format("'{}'", name) : fmt::format("'{}' ({})", name, quantity);
       double v = NAN;
       const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
       if (ec != std::errc() || end != f.data() + f.size() || !std::isfinite(v))
         throw TableError(line, "data.table",
-                         fmt::format("column '{}' ({}): expected a finite number, got '{}'",
-                                     header[static_cast<std::size_t>(c)], quantity,
+                         fmt::format("column {}: expected a finite number, got '{}'", column,
                                      core::shorten(f)));
       if (!accept(v))
         throw TableError(line, "data.table",
-                         fmt::format("column '{}' ({}): expected {}, got {}",
-                                     header[static_cast<std::size_t>(c)], quantity, range, f));
+                         fmt::format("column {}: expected {}, got {}", column, range, f));
       return v;
     };
     const auto positive = [](double v) { return v > 0; };

@@ -119,6 +119,11 @@ TEST(TableProtocols, ShippedExampleTableIsTheForwardModelsOwn) {
   std::stringstream shipped;
   shipped << in.rdbuf();
   EXPECT_EQ(shipped.str(), text) << "regenerated table: " << written;
+  // A 20-row version for the cost measurement of docs/calibration.md (granflow run ... --set
+  // data.table=<this file>).
+  std::ofstream(std::filesystem::path(GRANFLOW_BINARY_DIR) / "from_table_cv_20.csv")
+      << testing::constant_volume_csv(
+             testing::constant_volume_rows(testing::example_truth_model(), seed, 20), seed);
 }
 
 TEST(TableProtocols, ExampleCaseCalibratesWithinItsErrorsAndTheCostTarget) {
