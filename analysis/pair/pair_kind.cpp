@@ -43,16 +43,19 @@ std::vector<std::string> split_words(const std::string& text) {
 
 // Smooth model curves over the DEM's range of γ̇ (a factor 2 beyond each end, 80 rates, log
 // spaced) with the first point's μ_p and η0: /pair/curve/*. The normal stress follows the DEM's
-// measured σ_yy, interpolated linearly in log γ̇ between the points (constant beyond the ends), so
-// that the curves pass through the model's values at the DEM points (the model is not a function
-// of I alone: the critical state line depends on p).
+// measured σ_yy (constant volume: the solid fraction follows the DEM's φ), interpolated linearly
+// in log γ̇ between the points (constant beyond the ends), so that the curves pass through the
+// model's values at the DEM points (the model is not a function of I alone: the critical state
+// line depends on p).
 void write_model_curves(core::RunContext& ctx, const std::vector<calibration::DataPoint>& points,
                         const calibration::CalibratedModel& model,
                         const calibration::CalibratedModel& kinetic,
                         const calibration::CalibratedModel* calibrated) {
   if (points.empty()) return;
-  std::vector<std::pair<double, double>> measured;  // (ln γ̇, σ_yy), sorted
-  for (const auto& p : points) measured.emplace_back(std::log(p.shear_rate), p.normal_stress);
+  const bool volume = points.front().protocol == calibration::Protocol::constant_volume;
+  std::vector<std::pair<double, double>> measured;  // (ln γ̇, σ_yy or φ), sorted
+  for (const auto& p : points)
+    measured.emplace_back(std::log(p.shear_rate), volume ? p.value[1] : p.normal_stress);
   std::sort(measured.begin(), measured.end());
   const auto sigma_at = [&](double gamma_dot) {
     const double x = std::log(gamma_dot);
@@ -70,7 +73,13 @@ void write_model_curves(core::RunContext& ctx, const std::vector<calibration::Da
   for (int i = 0; i < count; ++i) {
     calibration::DataPoint at = points.front();
     at.shear_rate = lo * std::pow(hi / lo, double(i) / (count - 1));
-    const double sigma = sigma_at(at.shear_rate);
+    double sigma = sigma_at(at.shear_rate);
+    if (volume) {  // the imposed φ; σ_yy is the model's at it
+      at.value[1] = sigma;
+      const auto s = calibration::predict(model, at);
+      sigma = s.ok ? s.normal_stress : NAN;
+      curve["solid_fraction"].push_back(at.value[1]);
+    }
     at.normal_stress = sigma;
     curve["shear_rate"].push_back(at.shear_rate);
     curve["normal_stress"].push_back(sigma);
@@ -212,9 +221,6 @@ core::Schema pair_schema() {
 void check_pair_case(const core::Case& c) {
   if (!c.boolean("collisional.enabled"))
     c.fail("collisional.enabled", "true (the continuum side is the collisional steady shear)");
-  if (c.string("control.mode") != "constant_pressure")
-    c.fail("control.mode",
-           "constant_pressure (the continuum is driven at each DEM condition's measured σ_yy)");
   for (const auto& name : split_words(c.string("calibrate.parameters"))) {
     if (name == "none") continue;
     try {
@@ -371,9 +377,14 @@ int run_pair_case(core::RunContext& ctx) {
       if (rs.liquid && std::isfinite(p.liquid_viscosity))
         rs.liquid_parameters.viscosity = p.liquid_viscosity;  // the condition's η0 (wet sweeps)
       rev::SimpleShearControl control;
-      control.control = rev::ShearControl::constant_pressure;
       control.shear_rate = p.shear_rate;
-      control.normal_stress = p.normal_stress;
+      if (p.protocol == calibration::Protocol::constant_volume) {  // at the DEM's φ
+        control.control = rev::ShearControl::constant_volume;
+        control.void_ratio = 1.0 / p.value[1] - 1.0;
+      } else {
+        control.control = rev::ShearControl::constant_pressure;
+        control.normal_stress = p.normal_stress;
+      }
       const auto r = rev::run_simple_shear(continuum::MultiRegimePoint(rs), control);
       if (r.steady.reached)
         mu_rev = r.steady.friction, T_rev = r.steady.granular_temperature,
@@ -433,7 +444,11 @@ int run_pair_case(core::RunContext& ctx) {
         {"share_tau_fc", ok(s, s.force_chain_shear_stress / tau)},
         {"share_tau_col", ok(s, s.collisional_shear_stress / tau)},
         {"share_tau_liq", ok(s, s.liquid_shear_stress / tau)},
-        {"share_p_fc", ok(s, s.force_chain_normal_stress / p_total)}};
+        {"share_p_fc", ok(s, s.force_chain_normal_stress / p_total)},
+        // σ_yy of the continuum: the imposed one at constant pressure, its prediction at the
+        // DEM's φ at constant volume
+        {"normal_stress_cont", ok(s, s.normal_stress)},
+        {"rel_err_p", ok(s, s.normal_stress / p.normal_stress - 1.0)}};
     for (const auto& [name, value] : more) extra[name].push_back(value);
     const std::string key = fmt::format("pair.{}.", n);
     if (calibrate) {
@@ -455,6 +470,7 @@ int run_pair_case(core::RunContext& ctx) {
     sum.set(key + "e_cont", e_c);
     sum.set(key + "rel_err_mu", row[rel_mu]);
     sum.set(key + "I_dem", I_d);
+    sum.set(key + "p_cont", more.at("normal_stress_cont"));
     if (in_parallel) {
       sum.set(key + "mu_kt", more.at("mu_kt"));
       sum.set(key + "share_tau_fc", more.at("share_tau_fc"));
@@ -464,9 +480,10 @@ int run_pair_case(core::RunContext& ctx) {
     log.info(
         "point {}: γ̇ = {:g} 1/s, I = {:.3g} ({}): μ DEM {:.4g} ± {:.2g} vs continuum {:.4g} "
         "({:+.1f} %; kinetic theory alone {:.4g}), e {:.4g} vs {:.4g}, T {:.3g} vs {:.3g} m²/s², "
-        "τ carried {:.0f} % by the force chains{}",
+        "σ_yy {:.4g} vs {:.4g} Pa, τ carried {:.0f} % by the force chains{}",
         n, p.shear_rate, I_d, regime_name(flow_regime(I_d, J_d)), p.value[0], p.error[0], mu_c,
-        100 * row[rel_mu], more.at("mu_kt"), e_d, e_c, T_d, T_c, 100 * more.at("share_tau_fc"),
+        100 * row[rel_mu], more.at("mu_kt"), e_d, e_c, T_d, T_c, p.normal_stress,
+        more.at("normal_stress_cont"), 100 * more.at("share_tau_fc"),
         s.ok ? "" : fmt::format(" ({})", s.why));
     ++n;
   }
@@ -497,12 +514,14 @@ int run_pair_case(core::RunContext& ctx) {
                                    "inertial, 2 collisional (I >= 0.1), 3 viscous (St = I²/J < 1)"
                                  : std::string(names[k]) +
                                        " (_dem: DEM steady ± batch-means error, _cont: continuum "
-                                       "steady simple shear at the DEM γ̇ and σ_yy)");
+                                       "steady simple shear at the DEM γ̇ and σ_yy, or at its φ "
+                                       "for a constant-volume DEM)");
   for (const auto& [name, values] : extra)
     ctx.result.write("/pair/" + name, values, name.rfind("T_", 0) == 0 ? "m^2/s^2" : "1",
                      name + " (_kt: kinetic theory alone; _cal: the model calibrated on the "
                             "points with held_out = 0; share_*: fraction of τ or σ_yy carried "
-                            "by the force chains, collisions, liquid)");
+                            "by the force chains, collisions, liquid; normal_stress_cont: the "
+                            "continuum's σ_yy, rel_err_p its relative error at constant volume)");
   write_model_curves(ctx, data.points, model, kinetic, calibrate ? &calibrated : nullptr);
   write_viscous_curves(ctx, data.points, model, kinetic, calibrate ? &calibrated : nullptr);
   ctx.plot("plot_pair.py");

@@ -12,6 +12,7 @@
 
 #include "analysis/calibration/calibrate_kind.hpp"
 #include "analysis/calibration/calibration.hpp"
+#include "continuum/rev/simple_shear.hpp"
 #include "tests/calibration/table_data.hpp"
 
 namespace granflow::calibration {
@@ -72,6 +73,26 @@ TEST(TableProtocols, ConstantVolumeHasAStateOnTheDiluteBranchAndNoneAtJamming) {
   EXPECT_GT(dilute.normal_stress, 0);
   EXPECT_FALSE(steady_simple_shear_at_solid_fraction(kinetic, {}, 10.0, 0.5901).ok);
   EXPECT_FALSE(steady_simple_shear_at_solid_fraction(kinetic, {}, 10.0, -0.1).ok);
+}
+
+// Second path (as the constant-volume pairs record it): the time-stepped REV at constant volume,
+// kinetic theory alone, relaxes to the algebraic constant-volume state.
+TEST(TableProtocols, ConstantVolumeStateIsTheTimeSteppedRevsAtThatVolume) {
+  auto kinetic = spheres();
+  kinetic.force_chains = false;
+  for (const double phi : {0.45, 0.55, 0.58}) {
+    const auto algebraic = steady_simple_shear_at_solid_fraction(kinetic, {}, 20.0, phi);
+    ASSERT_TRUE(algebraic.ok) << algebraic.why;
+    rev::SimpleShearControl control;
+    control.control = rev::ShearControl::constant_volume;
+    control.shear_rate = 20.0;
+    control.void_ratio = 1.0 / phi - 1.0;
+    const auto r = rev::run_simple_shear(continuum::MultiRegimePoint(kinetic), control);
+    ASSERT_TRUE(r.steady.reached) << phi;
+    // the REV stops at 1e-10 relative change per unit strain
+    EXPECT_NEAR(r.steady.friction / algebraic.friction, 1.0, 1e-8) << phi;
+    EXPECT_NEAR(r.steady.granular_temperature / algebraic.granular_temperature, 1.0, 1e-8) << phi;
+  }
 }
 
 TEST(TableProtocols, ConstantVolumeTablesGiveTheirParametersBackWithinTwoStandardErrors) {
