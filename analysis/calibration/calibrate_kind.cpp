@@ -404,11 +404,11 @@ int run_calibrate_case(core::RunContext& ctx) {
   std::vector<std::string> comments;
   comments.push_back(
       fmt::format("Calibrated parameters (granflow kind: calibrate, run '{}').", c.name()));
-  comments.push_back(fmt::format("Data: {}{}; observables: {}; χ²_red = {:.4g}",
-                                 c.has("data.files") ? c.string("data.files") : std::string(),
-                                 c.has("data.table") ? " " + c.string("data.table") : std::string(),
-                                 c.string("data.observables"),
-                                 r.chi2_red));
+  const std::string files = c.has("data.files") ? c.string("data.files") : std::string(),
+                    tables = c.has("data.table") ? c.string("data.table") : std::string();
+  comments.push_back(fmt::format("Data: {}{}{}; observables: {}; χ²_red = {:.4g}", files,
+                                 files.empty() || tables.empty() ? "" : " ", tables,
+                                 c.string("data.observables"), r.chi2_red));
   for (std::size_t j = 0; j < names.size(); ++j)
     comments.push_back(
         fmt::format("{} = {:.8g} ± {:.3g}", names[j], r.estimate[j], r.standard_error[j]));
