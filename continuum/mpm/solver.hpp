@@ -58,8 +58,7 @@ struct SolverOptions {
   DragIntegration drag_integration = DragIntegration::semi_implicit;
   double gimp_half_length_x = 0.0, gimp_half_length_y = 0.0;  // GIMP particle half-sizes, m
   // Conduction of the granular temperature among solid points (seed section 5): constant
-  // conductivity κ_T of q = -κ_T ∇T, kg/(m s); 0 = T only carried. (The multi-regime model's
-  // ρ_p d f4 T^½ will come through the material interface.)
+  // conductivity κ_T of q = -κ_T ∇T, kg/(m s); 0 = T only carried (unless the next option).
   double temperature_conductivity = 0.0;
   // Conduct T with the conductivity each material reports per point (StressUpdateView::
   // conductivity; the multi-regime material: ρ_p d f4 T^½) instead of the constant above.
@@ -162,6 +161,10 @@ class Solver {
   }
 
  private:
+  // Defined by concern: solver.cpp (construction, initialize, diagnostics), solver_maps.cpp (the
+  // step, P2G/G2P), solver_nodes.cpp (nodal balance, velocity conditions), solver_constitutive.cpp
+  // (stresses, storage equation, pressure smoothing), solver_temperature.cpp, solver_time_step.cpp,
+  // solver_reduction.cpp; the templates more than one of them use are in solver_internal.hpp.
   template <class G, ShapeKind S>
   void step_impl(const G& grid);
   // The grid part of a step is one parallel region; each piece below is run by thread t on its
@@ -189,7 +192,8 @@ class Solver {
   void constitutive_update(bool move);
   template <class G, ShapeKind S>
   void conduct_temperature(const G& grid);
-  // Scatter with per-thread node buffers in its own parallel region (conduction, smoothing).
+  // Scatter with per-thread node buffers in its own parallel region (conduction, the cell-averaged
+  // rate, the pressure relaxation, the cell-constant pressure).
   template <class Body>
   void scatter(int fields, Body&& body);
   // Thread t's node accumulator for `fields` fields, all zero: acc_ itself on one thread, else
@@ -273,11 +277,10 @@ class Solver {
   std::vector<double> relative_speed_;  // |u_L - u_S| at the liquid points (Ergun only)
   std::vector<double> volumetric_rate_;
   std::vector<double> pressure_change_;  // Δp of relax_pressure per liquid point
-  std::vector<int> liquid_cell_;
+  std::vector<int> liquid_cell_;         // first node of the cell holding each liquid point
   std::vector<double> temperature_gradient_x_, temperature_gradient_y_;
   std::vector<double> point_conductivity_;  // κ_T per solid point (material_conductivity)
-  std::vector<double> nodal_temperature_,
-      heat_capacity_;  // first node of the cell holding each liquid point
+  std::vector<double> nodal_temperature_, heat_capacity_;  // T_a and C_a = Σ N (3/2) m of the nodes
   NodeFields nodes_;
 
   double dt_ = 0, time_ = 0;

@@ -1,0 +1,286 @@
+// The point update after the grid part of the Solver's step (solver.hpp): the materials' stresses,
+// volume and porosity of the solid points; the storage equation, volume, viscous stress and drag
+// of the liquid points, with the optional cell-averaged rate, closed-domain mean removal, pressure
+// relaxation and cell-constant pressure (docs/mpm.md); the finite checks.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <type_traits>
+#include <variant>
+
+#include "continuum/model/closures.hpp"
+#include "continuum/mpm/solver_internal.hpp"
+
+namespace granflow::mpm {
+
+using namespace solver_internal;
+
+double Solver::viscosity_at(double nu) const {
+  if (liquid_options_.viscosity_law == ViscosityLaw::constant) return liquid_options_.viscosity;
+  return model::mixture_viscosity(liquid_options_.closure, std::max(nu, 0.0));
+}
+
+double Solver::drag_at(double n, long p) const {
+  if (n >= 1.0 - 1e-12) return 0.0;  // no solid: nothing to drag against
+  if (liquid_options_.drag_law == DragLaw::darcy) {
+    // Darcy: n (v_L - v_S) = -(k_D/γ_w) ∇p  =>  β = n² γ_w / k_D
+    return n * n * liquid_options_.density * liquid_options_.darcy_gravity /
+           liquid_options_.hydraulic_conductivity;
+  }
+  if (forchheimer_) {
+    // Ergun (1952) with its inertial term: -∇p = (η0/κ) q + c_F |q| q, q = n (u_L - u_S), so
+    // β = η0 n / κ + c_F n² |u_L - u_S| (model::drag_coefficient_with_inertia), with the
+    // relative speed of the last velocity-gradient pass (lagged by one step).
+    return model::drag_coefficient_with_inertia(
+        liquid_options_.closure, liquid_options_.grain_diameter, 1.0 - n, relative_speed_[p]);
+  }
+  return model::drag_coefficient(liquid_options_.closure, liquid_options_.grain_diameter, 1.0 - n);
+}
+
+void Solver::refresh_liquid_state() {
+  // Volume, viscous stress and drag of the liquid points from p, n and L (no time increment).
+  const double K = liquid_options_.bulk_modulus, rho0 = liquid_options_.density;
+  for (std::size_t p = 0; p < liquid_.size(); ++p) {
+    const double n = liquid_.porosity[p];
+    liquid_.volume[p] = liquid_.mass[p] / (n * rho0 * std::exp(liquid_.pressure[p] / K));
+    liquid_.drag[p] = drag_at(n, static_cast<long>(p));
+  }
+}
+
+// Relaxation of the pore pressure towards its nodal average (numerics.pressure_relaxation_time
+// t_p), applied to the start-of-step p with the start-of-step stencils:
+//   p_a = Σ_q N_a(x_q) V_q p_q / Σ_q N_a(x_q) V_q,   p̃_p = Σ_a N_a(x_p) p_a,
+//   p_p ← p_p − (1 − exp(−Δt/t_p)) (p_p − p̃_p) − mean,
+// the volume-weighted mean of the change removed (Σ V Δp = 0, the mean pore pressure is kept).
+// A pressure alternating from cell to cell has p̃ = 0 and decays as exp(−t/t_p); it is a
+// near-zero-energy mode of the cell-constant rate (its nodal forces nearly cancel), which
+// nothing else restrains. A smooth p changes by O(h² ∇²p): a diffusivity ~ h²/t_p, negligible
+// against the physical one of a saturated sand, (κ/η0)(K_w/n) (docs/mpm.md).
+template <class G>
+void Solver::relax_pressure(const G& grid) {
+  const int nn = nn_;
+  LiquidPoints& lp = liquid_;
+  const long np = static_cast<long>(lp.size());
+  scatter(2, [&](double* acc, int t, int T) {
+    std::size_t b, e;
+    chunk(lp.size(), t, T, b, e);
+    Stencil st{};
+    for (std::size_t p = b; p < e; ++p) {
+      if (!locate<G, ShapeKind::linear>(grid, 1, p, st)) continue;
+      const double V = lp.volume[p], Vp = V * lp.pressure[p];
+      for (int k = 0; k < st.count; ++k) {
+        acc[st.node[k]] += st.N[k] * Vp;
+        acc[nn + st.node[k]] += st.N[k] * V;
+      }
+    }
+  });
+  const double alpha = 1.0 - std::exp(-dt_ / options_.pressure_relaxation_time);
+  double* change = pressure_change_.data();
+  const auto [sum, volume] = liquid_volume_sums([&](std::size_t p) -> std::optional<double> {
+    Stencil st{};
+    change[p] = 0.0;
+    if (!locate<G, ShapeKind::linear>(grid, 1, p, st)) return std::nullopt;
+    double avg = 0.0, w = 0.0;
+    for (int k = 0; k < st.count; ++k) {
+      const int a = st.node[k];
+      if (acc_[nn + a] > 0.0) {
+        avg += st.N[k] * acc_[a] / acc_[nn + a];
+        w += st.N[k];
+      }
+    }
+    if (w > 0.0) change[p] = -alpha * (lp.pressure[p] - avg / w);
+    return change[p];
+  });
+  const double mean = volume > 0.0 ? sum / volume : 0.0;
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
+  for (long p = 0; p < np; ++p) lp.pressure[p] += change[p] - mean;
+}
+
+void Solver::constitutive_update(bool move) {
+  const double dt = dt_;
+  // Solid: one call per material over its range, then volume and porosity.
+  StressUpdateView view{solid_.Lxx.data(),
+                        solid_.Lxy.data(),
+                        solid_.Lyx.data(),
+                        solid_.Lyy.data(),
+                        solid_.porosity.data(),
+                        solid_.temperature.data(),
+                        solid_.sxx.data(),
+                        solid_.syy.data(),
+                        solid_.szz.data(),
+                        solid_.sxy.data(),
+                        threads_,
+                        options_.material_conductivity ? point_conductivity_.data() : nullptr,
+                        solid_.x.data(),
+                        solid_.y.data(),
+                        solid_.volume.data()};
+  for (auto& m : materials_) m->update_stress(view, dt);
+  const long ns = static_cast<long>(solid_.size());
+  const long nl = static_cast<long>(liquid_.size());
+  const double K = liquid_options_.bulk_modulus, rho0 = liquid_options_.density;
+  const bool viscous = liquid_options_.viscosity > 0.0;
+  double* rate = volumetric_rate_.data();
+  // The pore pressure needs the volumetric rate of all liquid points first only when it is
+  // cell-averaged or its mean removed; otherwise each point uses its own, in the same pass.
+  const bool rate_pass = options_.liquid_volumetric_smoothing || options_.closed_domain ||
+                         options_.pressure_relaxation_time > 0.0;
+  // Per point; true when the point holds a non-finite or non-positive value.
+  auto solid_point = [&](long p) {
+    // dV/V = tr(D) dt (plane strain); grains incompressible: n = 1 - V_s / V.
+    solid_.volume[p] *= 1.0 + dt * (solid_.Lxx[p] + solid_.Lyy[p]);
+    solid_.porosity[p] = 1.0 - solid_.solid_volume[p] / solid_.volume[p];
+    const double check = solid_.sxx[p] + solid_.syy[p] + solid_.sxy[p] + solid_.vx[p] +
+                         solid_.vy[p] + solid_.x[p] + solid_.y[p];
+    if (move) {
+      solid_.x[p] += displacement_x_[0][p];
+      solid_.y[p] += displacement_y_[0][p];
+    }
+    return !std::isfinite(check) || !(solid_.volume[p] > 0.0);
+  };
+  // Volumetric rate of the mixture seen by the liquid: n tr(D_L) + (1 - n) tr(D_S).
+  auto liquid_rate = [&](long p) {
+    const double n = liquid_.porosity[p];
+    rate[p] = n * (liquid_.Lxx[p] + liquid_.Lyy[p]) + (1.0 - n) * div_solid_[p];
+  };
+  auto liquid_point = [&](long p) {
+    const double n = liquid_.porosity[p];
+    const double tr_l = liquid_.Lxx[p] + liquid_.Lyy[p];
+    // Storage equation of the double-point formulation (incompressible grains):
+    //   dp = -(K_w / n) [ n tr(D_L) + (1 - n) tr(D_S) ] dt
+    liquid_.pressure[p] -= dt * (K / n) * rate[p];
+    // Mixture volume the point stands for: V = m / (n ρ_w), ρ_w = ρ_w0 exp(p / K_w).
+    liquid_.volume[p] = liquid_.mass[p] / (n * rho0 * std::exp(liquid_.pressure[p] / K));
+    if (viscous) {
+      const double eta = viscosity_at(1.0 - n);
+      const double third = tr_l / 3.0;
+      liquid_.txx[p] = 2.0 * eta * (liquid_.Lxx[p] - third);
+      liquid_.tyy[p] = 2.0 * eta * (liquid_.Lyy[p] - third);
+      liquid_.tzz[p] = -2.0 * eta * third;
+      liquid_.txy[p] = eta * (liquid_.Lxy[p] + liquid_.Lyx[p]);
+    }
+    liquid_.drag[p] = drag_at(n, static_cast<long>(p));
+    const double check = liquid_.pressure[p] + liquid_.txy[p] + liquid_.vx[p] + liquid_.vy[p] +
+                         liquid_.x[p] + liquid_.y[p];
+    if (move) {
+      liquid_.x[p] += displacement_x_[1][p];
+      liquid_.y[p] += displacement_y_[1][p];
+    }
+    return !std::isfinite(check);
+  };
+  long bad_solid = -1, bad_liquid = -1;
+  // One parallel region for both phases (no barrier between the loops: they share nothing).
+#pragma omp parallel num_threads(threads_) if (threads_ > 1) reduction(max : bad_solid, bad_liquid)
+  {
+#pragma omp for schedule(static) nowait
+    for (long p = 0; p < ns; ++p) {
+      if (solid_point(p)) bad_solid = std::max(bad_solid, p);
+    }
+#pragma omp for schedule(static) nowait
+    for (long p = 0; p < nl; ++p) {
+      liquid_rate(p);
+      if (!rate_pass && liquid_point(p)) bad_liquid = std::max(bad_liquid, p);
+    }
+  }
+  if (nl > 0 && rate_pass) {
+    const int nn = nn_;
+    if (options_.liquid_volumetric_smoothing) {
+      // Cell average of the volumetric rate (volume-weighted over the liquid points of each
+      // cell, cells keyed by their first node): removes the checkerboard pressure modes of
+      // equal-order velocity/pressure interpolation (Anura3D's strain smoothing; Mast et al.
+      // 2012).
+      scatter(2, [&](double* acc, int t, int T) {
+        std::size_t b, e;
+        chunk(static_cast<std::size_t>(nl), t, T, b, e);
+        for (std::size_t p = b; p < e; ++p) {
+          acc[liquid_cell_[p]] += liquid_.volume[p] * rate[p];
+          acc[nn + liquid_cell_[p]] += liquid_.volume[p];
+        }
+      });
+    }
+    // The cell sums live in acc_ only until the next scatter: relax_pressure scatters its own
+    // nodal sums into acc_, so every point takes its cell-averaged rate into its own slot of
+    // `rate` (volumetric_rate_) before that.
+    bool smoothed = !options_.liquid_volumetric_smoothing;
+    auto smooth = [&](long p) { rate[p] = acc_[liquid_cell_[p]] / acc_[nn + liquid_cell_[p]]; };
+    double mean_rate = 0.0;
+    if (options_.closed_domain) {
+      // Volume-weighted mean rate (smoothing the rate of each point on the way).
+      const auto [rate_volume, volume] =
+          liquid_volume_sums([&](std::size_t p) -> std::optional<double> {
+            if (!smoothed) smooth(static_cast<long>(p));
+            return rate[p];
+          });
+      smoothed = true;
+      mean_rate = rate_volume / volume;
+    }
+    if (options_.pressure_relaxation_time > 0.0) {
+      if (!smoothed) {
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
+        for (long p = 0; p < nl; ++p) smooth(p);
+        smoothed = true;
+      }
+      std::visit([&](const auto& g) { relax_pressure<std::decay_t<decltype(g)>>(g); }, grid_);
+    }
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1) \
+    reduction(max                                                                 \
+              : bad_liquid)
+    for (long p = 0; p < nl; ++p) {
+      if (options_.closed_domain) {
+        rate[p] -= mean_rate;
+      } else if (!smoothed) {
+        smooth(p);
+      }
+      if (liquid_point(p)) bad_liquid = std::max(bad_liquid, p);
+    }
+    if (options_.liquid_volumetric_smoothing && bad_liquid < 0) cell_constant_pressure();
+  }
+  if (bad_solid >= 0) {
+    const long p = bad_solid;
+    const bool bad_volume = !(solid_.volume[p] > 0);
+    const bool bad_stress = !std::isfinite(solid_.sxx[p] + solid_.syy[p] + solid_.sxy[p]);
+    const char* var = bad_volume ? "volume" : bad_stress ? "stress" : "velocity/position";
+    const double val = bad_volume ? solid_.volume[p] : bad_stress ? solid_.sxx[p] : solid_.vx[p];
+    throw SolverFailure(step_ + 1, fmt::format("solid point {}", p), var, val,
+                        "non-finite or non-positive value");
+  }
+  if (bad_liquid >= 0) {
+    throw SolverFailure(step_ + 1, fmt::format("liquid point {}", bad_liquid), "pressure",
+                        liquid_.pressure[bad_liquid], "non-finite value");
+  }
+}
+
+// The pressure work of the internal force, -Σ_p V_p p_p tr(D)_p, and the storage equation driven
+// by the cell-averaged rate, dp_p = -(K_w/n) <tr D>_cell dt, are adjoint (the stored energy
+// Σ V p²/2K_w changes by exactly the pressure work) only when p is uniform within each cell:
+//   Σ_{p∈c} V_p p_p <tr D>_c = p_c Σ_{p∈c} V_p tr(D)_p   iff   p_p = p_c.
+// A within-cell spread of p (round-off, points that crossed a cell face) is invisible to the
+// smoothed rate but drives the nodes, so the discrete operator is no longer skew-adjoint; on the
+// polar grid in Couette flow an azimuthal mode of wavenumber about 0.45 × cells_theta grew from
+// round-off with an e-folding time of 0.17 s (10 × 64 cells) and reached 0.3 V at 7 s. Making the
+// pressure constant per cell after each update (its volume-weighted mean; the cell-constant
+// pressure of the Q1-P0 element, Hughes 2000 ch. 4, carried by the points as in the strain
+// smoothing of Mast et al. 2012) restores the adjoint pair: the mode stays at round-off.
+void Solver::cell_constant_pressure() {
+  const long nl = static_cast<long>(liquid_.size());
+  const int nn = nn_;
+  scatter(2, [&](double* acc, int t, int T) {
+    std::size_t b, e;
+    chunk(static_cast<std::size_t>(nl), t, T, b, e);
+    for (std::size_t p = b; p < e; ++p) {
+      acc[liquid_cell_[p]] += liquid_.volume[p] * liquid_.pressure[p];
+      acc[nn + liquid_cell_[p]] += liquid_.volume[p];
+    }
+  });
+  const double K = liquid_options_.bulk_modulus, rho0 = liquid_options_.density;
+#pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
+  for (long p = 0; p < nl; ++p) {
+    liquid_.pressure[p] = acc_[liquid_cell_[p]] / acc_[nn + liquid_cell_[p]];
+    // V = m / (n ρ_w), ρ_w = ρ_w0 exp(p / K_w), with the cell's pressure.
+    liquid_.volume[p] =
+        liquid_.mass[p] / (liquid_.porosity[p] * rho0 * std::exp(liquid_.pressure[p] / K));
+  }
+}
+
+}  // namespace granflow::mpm

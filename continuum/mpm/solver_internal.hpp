@@ -1,0 +1,147 @@
+// Internals shared by the solver_*.cpp files (continuum/mpm/solver.hpp has the class): the layout
+// of the nodal accumulators, the fixed split of points and nodes among the threads, and the
+// member templates that more than one of those files instantiates (the per-thread scatter with its
+// reproducible reduction, the point stencils, the liquid volume sums). Not part of the interface.
+#pragma once
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <limits>
+#include <optional>
+#include <type_traits>
+#include <utility>
+
+#include "continuum/mpm/solver.hpp"
+
+namespace granflow::mpm::solver_internal {
+
+// Nodal accumulators of the first map, field-major (field k of node a at k * nodes + a). Solid
+// fields first, so a dry run reduces only those.
+enum Field : int { MS, PXS, PYS, FXS, FYS, NMS, ML, PXL, PYL, FXL, FYL, GLX, GLY, CD, NF };
+inline constexpr int solid_fields = 6;
+// Accumulators of the MUSL momentum remap (reuse the first fields of the same buffer).
+enum RemapField : int { R_MS, R_PXS, R_PYS, R_ML, R_PXL, R_PYL };
+
+inline constexpr double inf = std::numeric_limits<double>::infinity();
+
+inline double sign(double v) { return v > 0.0 ? 1.0 : (v < 0.0 ? -1.0 : 0.0); }
+
+// Thread t's fixed contiguous chunk [b, e) of n points (or nodes) among T threads.
+inline void chunk(std::size_t n, int t, int T, std::size_t& b, std::size_t& e) {
+  b = n * t / T;
+  e = n * (t + 1) / T;
+}
+inline void node_share(int nn, int t, int T, int& b, int& e) {
+  b = static_cast<int>(static_cast<long>(nn) * t / T);
+  e = static_cast<int>(static_cast<long>(nn) * (t + 1) / T);
+}
+
+// The span [begin, end) of nodes a thread's scatter touched.
+struct NodeSpan {
+  int begin = std::numeric_limits<int>::max(), end = 0;
+  template <class G>
+  void add(const Stencil& st) {
+    if constexpr (std::is_same_v<G, CartesianGrid>) {
+      // Cartesian stencils list their nodes in increasing order (j outer, i inner).
+      if (st.count == 0) return;
+      begin = std::min(begin, st.node[0]);
+      end = std::max(end, st.node[st.count - 1] + 1);
+    } else {  // polar: the θ direction wraps around
+      for (int k = 0; k < st.count; ++k) {
+        begin = std::min(begin, st.node[k]);
+        end = std::max(end, st.node[k] + 1);
+      }
+    }
+  }
+};
+
+}  // namespace granflow::mpm::solver_internal
+
+namespace granflow::mpm {
+
+// Run `body(acc, t, T)` on every thread with its own zeroed accumulator of `fields` fields, then
+// sum the per-thread accumulators into acc_ in thread order (deterministic for a thread count).
+template <class Body>
+void Solver::scatter(int fields, Body&& body) {
+  if (threads_ == 1) {
+    body(scatter_buffer(0, fields), 0, 1);
+    return;
+  }
+#pragma omp parallel num_threads(threads_)
+  {
+    const int t = omp_get_thread_num();
+    body(scatter_buffer(t, fields), t, threads_);
+    mark_dirty(t, fields, 0, nn_);
+#pragma omp barrier
+    reduce_part(fields, t);
+  }
+}
+
+template <class G, ShapeKind S>
+inline bool Solver::locate(const G& grid, int phase, std::size_t p, Stencil& st) {
+  const PointFields& pts = phase == 0 ? static_cast<const PointFields&>(solid_)
+                                      : static_cast<const PointFields&>(liquid_);
+  if constexpr (std::is_same_v<G, PolarGrid>) {
+    StencilCache& c = cache_[phase];
+    const std::size_t o = p * static_cast<std::size_t>(c.stride);
+    if (c.valid) {
+      st.count = c.count[p];
+      for (int k = 0; k < st.count; ++k) {
+        st.node[k] = c.node[o + k];
+        st.N[k] = c.N[o + k];
+        st.dNdx[k] = c.dNdx[o + k];
+        st.dNdy[k] = c.dNdy[o + k];
+      }
+      return st.count > 0;
+    }
+    const bool inside = grid.template stencil<S>(pts.x[p], pts.y[p], 0.0, 0.0, st);
+    c.count[p] = inside ? st.count : 0;
+    for (int k = 0; inside && k < st.count; ++k) {
+      c.node[o + k] = st.node[k];
+      c.N[o + k] = st.N[k];
+      c.dNdx[o + k] = st.dNdx[k];
+      c.dNdy[o + k] = st.dNdy[k];
+    }
+    return inside;
+  } else {
+    // Cartesian: locating is a few flops, cheaper than reading a cache.
+    return grid.template stencil<S>(pts.x[p], pts.y[p], options_.gimp_half_length_x,
+                                    options_.gimp_half_length_y, st);
+  }
+}
+
+// Σ_p V_p x_p and Σ_p V_p over the liquid points whose value(p) gives an x_p (per-point work may
+// happen inside value); fixed chunks per thread added in thread order, so the result is
+// reproducible for a thread count (unlike an OpenMP reduction's arrival order).
+template <class PointValue>
+std::pair<double, double> Solver::liquid_volume_sums(PointValue&& value) {
+  auto part = [&](int t) {
+    std::size_t b, e;
+    solver_internal::chunk(liquid_.size(), t, threads_, b, e);
+    double weighted = 0.0, volume = 0.0;
+    for (std::size_t p = b; p < e; ++p) {
+      const std::optional<double> x = value(p);
+      if (!x) continue;
+      weighted += liquid_.volume[p] * *x;
+      volume += liquid_.volume[p];
+    }
+    slots_[t].sum[0] = weighted;
+    slots_[t].sum[1] = volume;
+  };
+  if (threads_ == 1) {
+    part(0);
+  } else {
+#pragma omp parallel num_threads(threads_)
+    part(omp_get_thread_num());
+  }
+  double weighted = 0.0, volume = 0.0;
+  for (const auto& slot : slots_) {
+    weighted += slot.sum[0];
+    volume += slot.sum[1];
+  }
+  return {weighted, volume};
+}
+
+}  // namespace granflow::mpm
