@@ -1,5 +1,5 @@
-// The `mpm` case kind: the double-point MPM verification problems run from case files
-// (cases/mpm/*.yaml), tests `terzaghi`, `couette` and `elastic_column`.
+// The `mpm` case kind: the double-point MPM problems run from case files (cases/mpm/*.yaml),
+// tests `terzaghi`, `couette`, `elastic_column` (verification) and `rheometer`.
 #pragma once
 
 #include "core/kind_registry.hpp"
