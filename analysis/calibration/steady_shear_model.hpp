@@ -122,7 +122,7 @@ SteadyShearState steady_simple_shear(const continuum::MultiRegimeSettings& setti
 // the right side above with those terms at p. P does not rise with p, so G falls strictly and
 // the root is unique: bracketed by doubling steps in x, then regula falsi (Illinois) to
 // |Δx| ≤ 1e-13 (relative 1e-13 in p). On the dense branch this is the constant-pressure state at
-// that p (tests/calibration/test_table_protocols.cpp: φ back to 1e-12); unlike it, a given ν on
+// that p (tests/calibration/test_table_protocols.cpp: σ_yy, μ, T back to 1e-11); a given ν on
 // the dilute branch (below the minimum of p(ν)) has a state too, as a constant-volume DEM has.
 // ok = false for ν outside (0, ν_max) or, immersed, at or above the maximum packing of η(ν).
 SteadyShearState steady_simple_shear_at_solid_fraction(
