@@ -10,6 +10,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "dem_coupling/deck/driver_parameters.hpp"
 #include "dem_coupling/deck/initial_state.hpp"
 
 namespace granflow::dem {
@@ -375,6 +376,18 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
                           "c_gf_virial[6]\n",
                           out.sample_every);
 
+  DriverParameters driver;
+  driver.shear_rate = p.shear_rate;
+  driver.total_steps = out.total_steps;
+  driver.sample_every = out.sample_every;
+  driver.constant_pressure = p.constant_pressure;
+  driver.normal_stress = p.normal_stress;
+  driver.servo_gain = p.servo_gain;
+  driver.servo_max_strain = p.servo_max_strain;
+  driver.servo_every = out.servo_every;
+  driver.servo_move_every = out.servo_move_every;
+  driver.profile_bins = p.profile_bins;
+  driver.particle_density = m.particle_density;
   const double skin = 0.2 * out.mean_diameter;
   const double top_speed = p.shear_rate * out.box_length;
   out.deck = fmt::format(
@@ -386,30 +399,13 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
 # {dt_rule}
 
 # ---- parameters read by granflow-dem
-variable gf_shear_rate equal {gd:.17g}
-variable gf_total_steps equal {total}
-variable gf_sample_every equal {sample}
-variable gf_constant_pressure equal {cp}
-variable gf_normal_stress equal {p0:.17g}
-variable gf_servo_gain equal {gain:.17g}
-variable gf_servo_max_strain equal {servo_max:.17g}
-variable gf_servo_every equal {servo}
-variable gf_servo_move_every equal {servo_move}
-variable gf_profile_bins equal {bins}
-variable gf_particle_density equal {rho:.17g}
-# shear start: granflow-dem adds Gaussian velocity fluctuations of granular temperature
+{driver_parameters}# shear start: granflow-dem adds Gaussian velocity fluctuations of granular temperature
 # gf_initial_temperature (m^2/s^2, = {t0_scaled:.6g} (d gd)^2{t0_rule}) to the streaming profile,
 # zero total momentum, seeded by gf_velocity_seed and the atom id (docs/dem_dataset.md)
 variable gf_initial_temperature equal {t0:.17g}
 variable gf_velocity_seed equal {vseed}
 
-atom_style      granular
-atom_modify     map array
-boundary        p p p
-newton          off
-communicate     single vel yes
-units           si
-# fix deform flips the box only at re-neighbouring, so |xy| may exceed Lx/2 for a few steps;
+{atom_setup}# fix deform flips the box only at re-neighbouring, so |xy| may exceed Lx/2 for a few steps;
 # allow that when the servo's change_box re-checks the box (error otherwise)
 box             tilt large
 read_data       {data}
@@ -444,12 +440,9 @@ thermo          0                            # thermo (and the virial) at the en
               : fmt::format("dt = {} * min(t_Rayleigh = {:.6g} s, t_Hertz = {:.6g} s at "
                             "{:.4g} m/s)",
                             p.dt_safety, out.times.rayleigh, out.times.hertz, reference_speed)),
-      fmt::arg("gd", p.shear_rate), fmt::arg("total", out.total_steps),
-      fmt::arg("sample", out.sample_every), fmt::arg("cp", p.constant_pressure ? 1 : 0),
-      fmt::arg("p0", p.normal_stress), fmt::arg("gain", p.servo_gain),
-      fmt::arg("servo_max", p.servo_max_strain), fmt::arg("servo", out.servo_every),
-      fmt::arg("servo_move", out.servo_move_every), fmt::arg("bins", p.profile_bins),
-      fmt::arg("rho", m.particle_density), fmt::arg("data", data_file_name), fmt::arg("skin", skin),
+      fmt::arg("gd", p.shear_rate), fmt::arg("driver_parameters", driver_parameter_lines(driver)),
+      fmt::arg("atom_setup", granular_atom_setup()), fmt::arg("data", data_file_name),
+      fmt::arg("skin", skin),
       fmt::arg("contact", contact_law_commands(m, out.mean_diameter)), fmt::arg("dt", out.dt),
       fmt::arg("thermo_comp", std::max(1L, p.compression_steps / 5)),
       fmt::arg("phi", p.solid_fraction), fmt::arg("l0", out.initial_box_length),

@@ -45,6 +45,7 @@
 #include "dem_coupling/extraction/normal_stress_servo.hpp"
 #include "dem_coupling/extraction/shear_sample.hpp"
 #include "dem_coupling/fix_styles.hpp"
+#include "dem_coupling/fixes/fix_fluid_le.hpp"
 #include "dem_coupling/liggghts_access.hpp"
 #include "domain.h"
 #include "force.h"
@@ -132,10 +133,11 @@ struct FluidStress {
   double contact = 0, lubrication = 0, drag = 0, kinetic = 0, lubricated_pairs = 0;
 };
 
-// Entry k (1-based, as f_gf_fluid[k]) of the fix's global vector; collective (the fix reduces
-// its sums over ranks), so every rank calls it. The value is malloc'ed by library.cpp.
-double fluid_entry(void* handle, int k, int rank) {
-  void* p = lammps_extract_fix(handle, "gf_fluid", 0, 1, k - 1, 0);
+// Entry `offset` (0-based, dem::fluid_le_vector; f_gf_fluid[offset + 1] in a deck) of the fix's
+// global vector; collective (the fix reduces its sums over ranks), so every rank calls it. The
+// value is malloc'ed by library.cpp.
+double fluid_entry(void* handle, int offset, int rank) {
+  void* p = lammps_extract_fix(handle, "gf_fluid", 0, 1, offset, 0);
   if (p == nullptr) usage_error(rank, "deck defines gf_viscosity but no fix gf_fluid (fluid/le)");
   double* value = static_cast<double*>(p);
   const double v = *value;
@@ -143,16 +145,18 @@ double fluid_entry(void* handle, int k, int rank) {
   return v;
 }
 
-// τ_lub = -(P_lub,n,xy + P_lub,t,xy) (entries 4, 10), τ_drag = -P_drag,xy (16), τ_kin = -P^kin_xy,
+// τ_lub = -(P_lub,n,xy + P_lub,t,xy), τ_drag = -P_drag,xy, τ_kin = -P^kin_xy,
 // τ_contact = -P^vir_xy - τ_lub - τ_drag (the fix's virial is part of compute gf_virial), so
 // the four parts sum to τ = -(P^vir_xy + P^kin_xy) exactly.
 FluidStress fluid_stress(void* handle, const ShearSample& s, int rank) {
   FluidStress f;
-  f.lubrication = -(fluid_entry(handle, 4, rank) + fluid_entry(handle, 10, rank));
-  f.drag = -fluid_entry(handle, 16, rank);
+  namespace v = granflow::dem::fluid_le_vector;
+  f.lubrication = -(fluid_entry(handle, v::lubrication_normal + v::xy, rank) +
+                    fluid_entry(handle, v::lubrication_tangential + v::xy, rank));
+  f.drag = -fluid_entry(handle, v::drag + v::xy, rank);
   f.kinetic = -s.kinetic_stress[3];
   f.contact = -s.virial_stress[3] - f.lubrication - f.drag;
-  f.lubricated_pairs = fluid_entry(handle, 27, rank);
+  f.lubricated_pairs = fluid_entry(handle, v::lubricated_pairs, rank);
   return f;
 }
 

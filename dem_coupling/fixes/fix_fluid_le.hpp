@@ -75,6 +75,8 @@ constexpr int rotational_dissipation = 28;
 constexpr int lubrication_dissipation = 29;
 constexpr int shear_rate = 30;
 constexpr int size = 31;
+// Offset of a component within a stress block (xx yy zz xy xz yz).
+constexpr int xy = 3;
 }  // namespace fluid_le_vector
 
 }  // namespace granflow::dem

@@ -5,8 +5,12 @@ add_library(granflow_dem_fluid STATIC ${CMAKE_CURRENT_LIST_DIR}/fluid_time_step.
 target_include_directories(granflow_dem_fluid PUBLIC ${PROJECT_SOURCE_DIR})
 target_link_libraries(granflow_dem_fluid PUBLIC granflow_model fmt::fmt)
 
-target_sources(granflow-dem PRIVATE ${CMAKE_CURRENT_LIST_DIR}/fix_fluid_le.cpp)
+set(fix_fluid_le_sources
+    ${CMAKE_CURRENT_LIST_DIR}/fix_fluid_le.cpp ${CMAKE_CURRENT_LIST_DIR}/fix_fluid_le_arguments.cpp
+    ${CMAKE_CURRENT_LIST_DIR}/fix_fluid_le_reach.cpp
+    ${CMAKE_CURRENT_LIST_DIR}/fix_fluid_le_lubrication.cpp)
+target_sources(granflow-dem PRIVATE ${fix_fluid_le_sources})
 target_link_libraries(granflow-dem PRIVATE granflow_dem_fluid)
 # LIGGGHTS' headers are not -Wextra clean; treat them as system headers.
-set_source_files_properties(${CMAKE_CURRENT_LIST_DIR}/fix_fluid_le.cpp PROPERTIES
+set_source_files_properties(${fix_fluid_le_sources} PROPERTIES
                             COMPILE_OPTIONS "-isystem;${LIGGGHTS_INCLUDE_DIR}")

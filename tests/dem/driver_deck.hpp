@@ -1,36 +1,26 @@
 // Test support: the start of hand-written decks for the granflow-dem driver (tests/dem and
-// tests/dem_fluid).
+// tests/dem_fluid), from the same definition as the shear-deck writer
+// (dem_coupling/deck/driver_parameters.hpp).
 #pragma once
-
-#include <fmt/format.h>
 
 #include <string>
 
+#include "dem_coupling/deck/driver_parameters.hpp"
+
 namespace granflow::dem::testing {
 
-// The start of a hand-written deck for the driver: the gf_* variables it reads (no shear, no
-// servo; sampling every `sample_every` of `total_steps` steps) and the granular atom setup with
-// periodic boundaries in SI units. The test adds the box, atoms, contact law and computes.
+// The gf_* variables the driver reads (no shear, no servo; sampling every `sample_every` of
+// `total_steps` steps) and the granular atom setup with periodic boundaries in SI units. The
+// test adds the box, atoms, contact law and computes.
 inline std::string driver_deck_header(long total_steps, long sample_every, double particle_density,
                                       int profile_bins = 2) {
-  return fmt::format(R"(variable gf_shear_rate equal 0
-variable gf_total_steps equal {}
-variable gf_sample_every equal {}
-variable gf_constant_pressure equal 0
-variable gf_normal_stress equal 0
-variable gf_servo_gain equal 0
-variable gf_servo_max_strain equal 0
-variable gf_servo_every equal {}
-variable gf_profile_bins equal {}
-variable gf_particle_density equal {}
-atom_style      granular
-atom_modify     map array
-boundary        p p p
-newton          off
-communicate     single vel yes
-units           si
-)",
-                     total_steps, sample_every, sample_every, profile_bins, particle_density);
+  DriverParameters p;
+  p.total_steps = total_steps;
+  p.sample_every = sample_every;
+  p.servo_every = sample_every;
+  p.profile_bins = profile_bins;
+  p.particle_density = particle_density;
+  return driver_parameter_lines(p) + granular_atom_setup();
 }
 
 }  // namespace granflow::dem::testing
