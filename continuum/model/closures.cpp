@@ -9,7 +9,7 @@
 namespace granflow::model {
 namespace {
 
-// Names in enum order; the enum value is the index.
+// Names in enum order (closures.hpp's tables); the enum value is the index.
 template <typename Kind>
 Kind parse_kind(std::string_view option, std::string_view name,
                 const std::vector<std::string>& names) {
@@ -24,27 +24,31 @@ Kind parse_kind(std::string_view option, std::string_view name,
   throw std::invalid_argument(message);
 }
 
+template <std::size_t N>
+std::vector<std::string> as_strings(const std::string_view (&table)[N]) {
+  return {std::begin(table), std::end(table)};
+}
+
 }  // namespace
 
 const std::vector<std::string>& radial_distribution_names() {
-  static const std::vector<std::string> names{"carnahan_starling", "torquato",
-                                              "chialvo_sundaresan"};
+  static const std::vector<std::string> names = as_strings(radial_distribution_table);
   return names;
 }
 const std::vector<std::string>& effective_restitution_names() {
-  static const std::vector<std::string> names{"restitution", "chialvo_sundaresan"};
+  static const std::vector<std::string> names = as_strings(effective_restitution_table);
   return names;
 }
 const std::vector<std::string>& correlation_length_names() {
-  static const std::vector<std::string> names{"diameter", "jenkins"};
+  static const std::vector<std::string> names = as_strings(correlation_length_table);
   return names;
 }
 const std::vector<std::string>& mixture_viscosity_names() {
-  static const std::vector<std::string> names{"einstein", "krieger_dougherty", "boyer"};
+  static const std::vector<std::string> names = as_strings(mixture_viscosity_table);
   return names;
 }
 const std::vector<std::string>& permeability_names() {
-  static const std::vector<std::string> names{"seed_eq26", "kozeny_carman", "ergun"};
+  static const std::vector<std::string> names = as_strings(permeability_table);
   return names;
 }
 

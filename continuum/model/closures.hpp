@@ -8,20 +8,82 @@
 // pressures compression-positive.
 #pragma once
 
+#include <iterator>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace granflow::model {
 
-// ---- names <-> options ---------------------------------------------------------------------
-enum class RadialDistributionKind { carnahan_starling, torquato, chialvo_sundaresan };
-enum class EffectiveRestitutionKind { restitution, chialvo_sundaresan };
-enum class CorrelationLengthKind { diameter, jenkins };
-enum class MixtureViscosityKind { einstein, krieger_dougherty, boyer };
-enum class PermeabilityKind { seed_eq26, kozeny_carman, ergun };
+// ---- closure families: one table each ------------------------------------------------------
+// Each family is one list of its options, in the order of the enum, written once: the enum, the
+// names of the case files (schema choices, docs) and their count all come from it, so an option
+// cannot lack a name. A new option is one line in its family's list, its own header with the
+// formula (included by closures_inline.hpp) and its case in the family's dispatch switch there
+// (-Wswitch, an error in CI, names a switch that misses it).
+#define GRANFLOW_RADIAL_DISTRIBUTIONS(X) X(carnahan_starling) X(torquato) X(chialvo_sundaresan)
+#define GRANFLOW_EFFECTIVE_RESTITUTIONS(X) X(restitution) X(chialvo_sundaresan)
+#define GRANFLOW_CORRELATION_LENGTHS(X) X(diameter) X(jenkins)
+#define GRANFLOW_MIXTURE_VISCOSITIES(X) X(einstein) X(krieger_dougherty) X(boyer)
+#define GRANFLOW_PERMEABILITIES(X) X(seed_eq26) X(kozeny_carman) X(ergun)
 
-// Names as written in case files, in enum order (used for schema choices and docs).
+#define GRANFLOW_CLOSURE_ENUMERATOR(option) option,
+#define GRANFLOW_CLOSURE_NAME(option) #option,
+enum class RadialDistributionKind { GRANFLOW_RADIAL_DISTRIBUTIONS(GRANFLOW_CLOSURE_ENUMERATOR) };
+enum class EffectiveRestitutionKind {
+  GRANFLOW_EFFECTIVE_RESTITUTIONS(GRANFLOW_CLOSURE_ENUMERATOR)
+};
+enum class CorrelationLengthKind { GRANFLOW_CORRELATION_LENGTHS(GRANFLOW_CLOSURE_ENUMERATOR) };
+enum class MixtureViscosityKind { GRANFLOW_MIXTURE_VISCOSITIES(GRANFLOW_CLOSURE_ENUMERATOR) };
+enum class PermeabilityKind { GRANFLOW_PERMEABILITIES(GRANFLOW_CLOSURE_ENUMERATOR) };
+
+// Names as written in case files, in enum order (the enumerator's own spelling).
+inline constexpr std::string_view radial_distribution_table[] = {
+    GRANFLOW_RADIAL_DISTRIBUTIONS(GRANFLOW_CLOSURE_NAME)};
+inline constexpr std::string_view effective_restitution_table[] = {
+    GRANFLOW_EFFECTIVE_RESTITUTIONS(GRANFLOW_CLOSURE_NAME)};
+inline constexpr std::string_view correlation_length_table[] = {
+    GRANFLOW_CORRELATION_LENGTHS(GRANFLOW_CLOSURE_NAME)};
+inline constexpr std::string_view mixture_viscosity_table[] = {
+    GRANFLOW_MIXTURE_VISCOSITIES(GRANFLOW_CLOSURE_NAME)};
+inline constexpr std::string_view permeability_table[] = {
+    GRANFLOW_PERMEABILITIES(GRANFLOW_CLOSURE_NAME)};
+#undef GRANFLOW_CLOSURE_ENUMERATOR
+#undef GRANFLOW_CLOSURE_NAME
+
+// A family's table by its enum, and every option of a family in enum order (the tests and the
+// closure study iterate over them instead of listing the enumerators).
+template <typename Kind>
+struct ClosureFamily;
+template <>
+struct ClosureFamily<RadialDistributionKind> {
+  static constexpr const auto& names = radial_distribution_table;
+};
+template <>
+struct ClosureFamily<EffectiveRestitutionKind> {
+  static constexpr const auto& names = effective_restitution_table;
+};
+template <>
+struct ClosureFamily<CorrelationLengthKind> {
+  static constexpr const auto& names = correlation_length_table;
+};
+template <>
+struct ClosureFamily<MixtureViscosityKind> {
+  static constexpr const auto& names = mixture_viscosity_table;
+};
+template <>
+struct ClosureFamily<PermeabilityKind> {
+  static constexpr const auto& names = permeability_table;
+};
+template <typename Kind>
+std::vector<Kind> all_options() {
+  std::vector<Kind> options;
+  for (std::size_t i = 0; i < std::size(ClosureFamily<Kind>::names); ++i)
+    options.push_back(static_cast<Kind>(i));
+  return options;
+}
+
+// The same names as strings (schema choices, docs).
 const std::vector<std::string>& radial_distribution_names();
 const std::vector<std::string>& effective_restitution_names();
 const std::vector<std::string>& correlation_length_names();

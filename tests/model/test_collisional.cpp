@@ -18,11 +18,8 @@ const double sqrt_pi = std::sqrt(pi);
 // Every combination of g0 and ε options, with the case-file defaults otherwise.
 std::vector<gm::CollisionalParameters> all_collisional_options() {
   std::vector<gm::CollisionalParameters> out;
-  for (auto g0 :
-       {gm::RadialDistributionKind::carnahan_starling, gm::RadialDistributionKind::torquato,
-        gm::RadialDistributionKind::chialvo_sundaresan}) {
-    for (auto eps : {gm::EffectiveRestitutionKind::restitution,
-                     gm::EffectiveRestitutionKind::chialvo_sundaresan}) {
+  for (auto g0 : gm::all_options<gm::RadialDistributionKind>()) {
+    for (auto eps : gm::all_options<gm::EffectiveRestitutionKind>()) {
       for (double restitution : {0.3, 0.7, 0.95}) {
         gm::CollisionalParameters p;
         p.radial_distribution = g0;

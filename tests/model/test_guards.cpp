@@ -28,9 +28,7 @@ std::vector<double> fine_grid(double lower, double upper) {
 
 std::vector<gm::CollisionalParameters> singular_options() {
   std::vector<gm::CollisionalParameters> out;
-  for (auto g0 :
-       {gm::RadialDistributionKind::carnahan_starling, gm::RadialDistributionKind::torquato,
-        gm::RadialDistributionKind::chialvo_sundaresan}) {
+  for (auto g0 : gm::all_options<gm::RadialDistributionKind>()) {
     for (double nu_c : {0.587, 0.636}) {
       gm::CollisionalParameters p;
       p.radial_distribution = g0;
@@ -121,8 +119,7 @@ TEST(ClosuresSingular, PermeabilityDomain) {
     EXPECT_THROW(gm::particle_drag_coefficient(l, 1e-3, nu), std::domain_error) << "nu=" << nu;
   }
   // drag grows monotonically and stays finite up to 1 - 1e-12 for every correlation
-  for (auto kind : {gm::PermeabilityKind::seed_eq26, gm::PermeabilityKind::kozeny_carman,
-                    gm::PermeabilityKind::ergun}) {
+  for (auto kind : gm::all_options<gm::PermeabilityKind>()) {
     l.permeability = kind;
     double previous = 0.0;
     for (double nu : fine_grid(1e-6, 1.0)) {
@@ -137,13 +134,10 @@ TEST(ClosuresSingular, PermeabilityDomain) {
 // No NaN/Inf for ν in (1e-6, ν_c - 1e-12), T in [0, 1e3], γ̇ in [0, 1e4], every option.
 TEST(ClosuresSingular, NoNaNOverTheWholeDomain) {
   for (auto p : singular_options()) {
-    for (auto L_kind : {gm::CorrelationLengthKind::diameter, gm::CorrelationLengthKind::jenkins}) {
+    for (auto L_kind : gm::all_options<gm::CorrelationLengthKind>()) {
       p.correlation_length = L_kind;
-      for (auto eta_kind :
-           {gm::MixtureViscosityKind::einstein, gm::MixtureViscosityKind::krieger_dougherty,
-            gm::MixtureViscosityKind::boyer}) {
-        for (auto kappa_kind : {gm::PermeabilityKind::seed_eq26,
-                                gm::PermeabilityKind::kozeny_carman, gm::PermeabilityKind::ergun}) {
+      for (auto eta_kind : gm::all_options<gm::MixtureViscosityKind>()) {
+        for (auto kappa_kind : gm::all_options<gm::PermeabilityKind>()) {
           gm::LiquidParameters l;
           l.mixture_viscosity = eta_kind;
           l.permeability = kappa_kind;

@@ -43,8 +43,12 @@ TEST(ClosuresNames, RoundTripAndRefusal) {
 }
 
 TEST(ClosuresNames, EnumCountsMatchNameLists) {
-  // The last enumerator must be the last name: a name list shorter than the enum would make
-  // the cast in parse_* reach a value without a name.
+  // The enum and the names come from one list per family (closures.hpp), so they cannot differ
+  // in length; the last enumerator is the last name, and each name is its enumerator's spelling.
+  static_assert(std::size(gm::radial_distribution_table) == 3);
+  static_assert(gm::radial_distribution_table[static_cast<int>(
+                    gm::RadialDistributionKind::torquato)] == "torquato");
+  static_assert(gm::permeability_table[static_cast<int>(gm::PermeabilityKind::ergun)] == "ergun");
   EXPECT_EQ(gm::parse_radial_distribution(gm::radial_distribution_names().back()),
             gm::RadialDistributionKind::chialvo_sundaresan);
   EXPECT_EQ(gm::parse_effective_restitution(gm::effective_restitution_names().back()),
