@@ -71,13 +71,6 @@ std::string schema_reference(const core::KindRegistry& registry) {
   return text;
 }
 
-// Kinds whose run function hands its conditions to core::run_conditions, so that the ranks of
-// an mpirun share them. Under mpirun the other kinds run on rank 0 alone.
-bool distributes_conditions(const core::KindEntry& entry) {
-  return (entry.kind == "rev" && entry.test == "simple_shear") || entry.kind == "dem" ||
-         entry.kind == "pair";
-}
-
 // A rank > 0 of `mpirun granflow run`: the kind's run function in a scratch context of its own
 // (nothing there is kept), where core::run_conditions computes the conditions rank 0 hands out.
 int serve_run(const core::KindEntry& entry, const core::Case& c, int rank) {
@@ -208,6 +201,10 @@ int run_main(int argc, char** argv) {
     const int code = calibration::run_closure_study_command(
         {case_file, out_dir, sets, force, quiet, true}, ranks->rank());
     ranks->leave_run();  // every rank, so that none waits for one that stopped
+    if (code == core::exit_ok && core::plot_failed() && core::strict_plots()) {
+      std::cerr << "error: a plot script failed and GRANFLOW_STRICT_PLOTS is set\n";
+      return core::exit_external;
+    }
     return code;
 #else
     std::cerr << "error: this granflow was built without kind: calibrate\n";
@@ -269,11 +266,15 @@ int run_main(int argc, char** argv) {
   }
   if (report->parsed()) {
     try {
-      std::cout << analysis::write_report(report_dir).string() << "\n";
+      std::cout << analysis::write_report(report_dir, registry).string() << "\n";
     } catch (...) {  // e.g. a truncated result.h5 (HDF5's exception): one line, exit 2
       std::cerr << "error: " << report_dir << ": "
                 << core::describe_exception(std::current_exception()) << "\n";
       return core::exit_bad_input;
+    }
+    if (core::plot_failed() && core::strict_plots()) {
+      std::cerr << "error: a plot script failed and GRANFLOW_STRICT_PLOTS is set\n";
+      return core::exit_external;
     }
     return core::exit_ok;
   }
@@ -302,8 +303,8 @@ int run_main(int argc, char** argv) {
   const Loaded& loaded = *maybe_loaded;
   const core::Case& c = loaded.run_case;
   if (!lead)
-    return leave(distributes_conditions(*loaded.entry) ? serve_run(*loaded.entry, c, ranks->rank())
-                                                       : core::exit_ok);
+    return leave(loaded.entry->distributes_conditions ? serve_run(*loaded.entry, c, ranks->rank())
+                                                      : core::exit_ok);
 
   if (check->parsed()) {
     const auto conditions = c.expand_sweep();
@@ -333,7 +334,7 @@ int run_main(int argc, char** argv) {
   auto& log = *context->log;
   log.info("granflow run {} ({}{}) -> {}", case_file, c.kind(),
            loaded.entry->test.empty() ? "" : " / " + loaded.entry->test, dir.string());
-  if (ranks->distributed() && !distributes_conditions(*loaded.entry))
+  if (ranks->distributed() && !loaded.entry->distributes_conditions)
     log.warn("started on {} MPI ranks, but kind {} runs on one: ranks 1-{} stay idle",
              ranks->size(), c.kind(), ranks->size() - 1);
   int code = core::exit_ok;
@@ -384,6 +385,11 @@ int run_main(int argc, char** argv) {
   } catch (const core::IoError& e) {
     log.error("{}", e.what());
     if (code == core::exit_ok || code == core::exit_failure) code = core::exit_io;
+  }
+  if (code == core::exit_ok && core::plot_failed() && core::strict_plots()) {
+    log.error("a plot script failed and GRANFLOW_STRICT_PLOTS is set: exit {}",
+              int(core::exit_external));
+    code = core::exit_external;
   }
   if (code == core::exit_ok)
     log.info("finished in {:.3f} s; results in {}", context->wall_seconds(), dir.string());

@@ -29,6 +29,12 @@ const KindEntry& KindRegistry::find(const std::string& kind, const std::string& 
                               test.empty() ? "missing test" : "unknown test", test, kind, tests));
 }
 
+const KindEntry* KindRegistry::lookup(const std::string& kind, const std::string& test) const {
+  for (const auto& e : entries_)
+    if (e.kind == kind && e.test == test) return &e;
+  return nullptr;
+}
+
 Schema kind_header(const std::string& kind, const std::string& test, const std::string& doc) {
   Schema schema = make_root_schema(doc);
   schema.choice("kind", {kind}, "case kind").required();

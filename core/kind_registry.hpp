@@ -3,6 +3,7 @@
 // schema, a cross-field check and a run function. No global state: the CLI builds the registry.
 #pragma once
 
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
@@ -23,6 +24,15 @@ struct KindEntry {
   // Checks of the files the case reads (data sets), made by `run` before the run directory
   // exists (throw via Case::fail); `check` leaves them out, the files may not exist yet. Optional.
   std::function<void(const Case&)> check_inputs = nullptr;
+  // The run function hands its conditions to core::run_conditions, so that the ranks of an
+  // mpirun share them (docs/parallel-runs.md); otherwise a run under mpirun is rank 0's alone.
+  bool distributes_conditions = false;
+  // `granflow report RUN_DIR`: the kind's own Markdown section of report.md, placed after the
+  // description. It may bring summary.json and result.h5 up to date (a DEM sweep re-derives its
+  // fits) and redraw its plots. Called also when RUN_DIR has result.h5 but no summary.json yet
+  // (an interrupted run). Optional.
+  std::function<std::string(const std::filesystem::path& run_dir, Summary& summary)> report =
+      nullptr;
 };
 
 class KindRegistry {
@@ -31,6 +41,9 @@ class KindRegistry {
   // Throws CaseError naming `origin` when the kind/test is unknown.
   const KindEntry& find(const std::string& kind, const std::string& test,
                         const std::string& origin) const;
+  // nullptr when this build has no such kind/test (e.g. a report of a DEM run by a build
+  // without the DEM).
+  const KindEntry* lookup(const std::string& kind, const std::string& test) const;
   const std::vector<KindEntry>& entries() const { return entries_; }
 
  private:

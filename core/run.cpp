@@ -6,12 +6,14 @@
 #include <spdlog/spdlog.h>
 #include <sys/stat.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <string_view>
 
 #include "core/file_io.hpp"
 #include "core/interrupt.hpp"
@@ -312,6 +314,7 @@ void RunContext::plot(const std::string& script) {
     return;
   }
   if (!std::filesystem::exists(path)) {
+    record_plot_failure();
     log->warn("plot script {} not found; no PNG written", path.string());
     return;
   }
@@ -323,6 +326,7 @@ void RunContext::plot(const std::string& script) {
   options.set_environment = {"HDF5_USE_FILE_LOCKING=FALSE"};
   const ProcessResult r =
       run_process({python_interpreter(), path.string(), directory.path().string()}, options);
+  if (!r.ok()) record_plot_failure();
   if (!r.started())
     log->warn("plotting with {} failed: {}; data in result.h5 is complete", script, r.error);
   else if (r.status != 0)
@@ -336,6 +340,17 @@ void RunContext::finish() {
   summary.set("cost.wall_s", wall_seconds());
   result.close();
   summary.write(directory / "summary.json");
+}
+
+namespace {
+std::atomic<bool> plot_failure_recorded{false};
+}  // namespace
+
+void record_plot_failure() { plot_failure_recorded = true; }
+bool plot_failed() { return plot_failure_recorded; }
+bool strict_plots() {
+  const char* env = std::getenv("GRANFLOW_STRICT_PLOTS");
+  return env && *env && std::string_view(env) != "0";
 }
 
 }  // namespace granflow::core

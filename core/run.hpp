@@ -133,4 +133,12 @@ std::filesystem::path source_dir();
 // /usr/bin/python3 (it has python3-matplotlib and python3-h5py), else python3 on PATH.
 std::string python_interpreter();
 
+// Plot scripts. A plot that fails while the data was written is a warning and the run still exits
+// 0 (the PNG can be made again from result.h5), unless GRANFLOW_STRICT_PLOTS is set to a value
+// other than 0: then the run exits 4 (exit_external), so that the tests (which set it on every
+// test) fail when a plot script breaks. Every plot failure in this process is recorded here.
+void record_plot_failure();
+bool plot_failed();
+bool strict_plots();
+
 }  // namespace granflow::core

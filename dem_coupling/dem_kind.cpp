@@ -20,6 +20,7 @@
 #include "dem_coupling/kind/launch.hpp"
 #include "dem_coupling/kind/mixed_number_fit.hpp"
 #include "dem_coupling/kind/point_analysis.hpp"
+#include "dem_coupling/kind/report_section.hpp"
 #include "dem_coupling/kind/series_table.hpp"
 #include "dem_coupling/kind/shear_start_keys.hpp"
 
@@ -652,9 +653,12 @@ int run_shear(core::RunContext& ctx) {
 }  // namespace
 
 void register_dem_kinds(core::KindRegistry& registry) {
-  registry.add({"dem", "",
-                "Lees-Edwards periodic simple shear of dry or immersed spheres (LIGGGHTS)",
-                shear_schema(), check_shear, run_shear, "cases/dem/dry_point.yaml"});
+  core::KindEntry entry{"dem", "",
+                        "Lees-Edwards periodic simple shear of dry or immersed spheres (LIGGGHTS)",
+                        shear_schema(), check_shear, run_shear, "cases/dem/dry_point.yaml"};
+  entry.distributes_conditions = true;
+  entry.report = dem_report_section;
+  registry.add(std::move(entry));
 }
 
 }  // namespace granflow::dem

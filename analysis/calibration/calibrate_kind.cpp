@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "analysis/calibration/calibrate_report.hpp"
 #include "analysis/calibration/calibration.hpp"
 #include "analysis/calibration/dem_table.hpp"
 #include "continuum/multi_regime/model_sections.hpp"
@@ -443,10 +444,13 @@ int run_calibrate_case(core::RunContext& ctx) {
 }
 
 void register_calibrate_kinds(core::KindRegistry& registry) {
-  registry.add({"calibrate", "",
-                "fit closure parameters to DEM steady simple-shear data (weighted least squares)",
-                calibrate_schema(), check_calibrate_case, run_calibrate_case,
-                "cases/calibrate/dry_mu_I.yaml", check_calibrate_data});
+  core::KindEntry entry{
+      "calibrate", "",
+      "fit closure parameters to DEM steady simple-shear data (weighted least squares)",
+      calibrate_schema(), check_calibrate_case, run_calibrate_case,
+      "cases/calibrate/dry_mu_I.yaml", check_calibrate_data};
+  entry.report = calibrate_report_section;
+  registry.add(std::move(entry));
 }
 
 }  // namespace granflow::calibration

@@ -328,6 +328,7 @@ void write_curves(const Study& o, const fs::path& file) {
 bool run_plot(const fs::path& dir, spdlog::logger& log) {
   const auto script = core::source_dir() / "analysis" / "plots" / "plot_closures.py";
   if (!fs::exists(script)) {
+    core::record_plot_failure();
     log.warn("plot script {} not found; no closures.png", script.string());
     return false;
   }
@@ -337,6 +338,7 @@ bool run_plot(const fs::path& dir, spdlog::logger& log) {
   const core::ProcessResult r =
       core::run_process({core::python_interpreter(), script.string(), dir.string()}, options);
   if (!r.ok()) {
+    core::record_plot_failure();
     log.warn("{} {} failed ({}); data in closures.h5", core::python_interpreter(), script.string(),
              r.started() ? fmt::format("exit {}; python3-matplotlib and python3-h5py installed?",
                                        r.status)

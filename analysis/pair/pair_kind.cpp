@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "analysis/calibration/calibration.hpp"
+#include "analysis/pair/pair_report.hpp"
 #include "continuum/multi_regime/model_sections.hpp"
 #include "continuum/rev/simple_shear.hpp"
 #include "core/interrupt.hpp"
@@ -529,8 +530,12 @@ int run_pair_case(core::RunContext& ctx) {
 }
 
 void register_pair_kinds(core::KindRegistry& registry) {
-  registry.add({"pair", "", "DEM and continuum steady simple shear side by side (one material)",
-                pair_schema(), check_pair_case, run_pair_case, "cases/pair/dry_pair.yaml"});
+  core::KindEntry entry{"pair", "",
+                        "DEM and continuum steady simple shear side by side (one material)",
+                        pair_schema(), check_pair_case, run_pair_case, "cases/pair/dry_pair.yaml"};
+  entry.distributes_conditions = true;
+  entry.report = pair_report_section;
+  registry.add(std::move(entry));
 }
 
 }  // namespace granflow::pair

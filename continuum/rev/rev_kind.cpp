@@ -459,10 +459,12 @@ int run_simple_shear_case(core::RunContext& ctx) {
 }  // namespace
 
 void register_rev_kinds(core::KindRegistry& registry) {
-  registry.add({"rev", "simple_shear",
-                "steady homogeneous simple shear of a material point (collisional + liquid)",
-                simple_shear_schema(), check_simple_shear, run_simple_shear_case,
-                "cases/rev/simple_shear_dry.yaml"});
+  core::KindEntry entry{"rev", "simple_shear",
+                        "steady homogeneous simple shear of a material point (collisional + liquid)",
+                        simple_shear_schema(), check_simple_shear, run_simple_shear_case,
+                        "cases/rev/simple_shear_dry.yaml"};
+  entry.distributes_conditions = true;
+  registry.add(std::move(entry));
   register_element_test_kinds(registry);
 }
 

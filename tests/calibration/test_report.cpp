@@ -12,6 +12,16 @@
 namespace granflow::calibration {
 namespace {
 
+// The registry `granflow report` uses, with the calibrate kind (its report section).
+const core::KindRegistry& registry() {
+  static const core::KindRegistry r = [] {
+    core::KindRegistry k;
+    register_calibrate_kinds(k);
+    return k;
+  }();
+  return r;
+}
+
 TEST(CalibrationReport, CalibrateRunReport) {
   const auto work = std::filesystem::path(GRANFLOW_BINARY_DIR) / "test_calibration_report";
   const auto data = testing::write_dem_dataset(
@@ -30,7 +40,7 @@ TEST(CalibrationReport, CalibrateRunReport) {
     ASSERT_EQ(run_calibrate_case(ctx), core::exit_ok);
     ctx.finish();
   }
-  const auto file = analysis::write_report(dir);
+  const auto file = analysis::write_report(dir, registry());
   std::ifstream in(file);
   std::stringstream buffer;
   buffer << in.rdbuf();
@@ -48,7 +58,7 @@ TEST(CalibrationReport, CalibrateRunReport) {
   if (std::filesystem::exists(dir / "calibration.png")) {
     EXPECT_NE(md.find("](calibration.png)"), std::string::npos);
   }
-  EXPECT_THROW(analysis::write_report(work / "no_such_run"), std::runtime_error);
+  EXPECT_THROW(analysis::write_report(work / "no_such_run", registry()), std::runtime_error);
 }
 
 }  // namespace

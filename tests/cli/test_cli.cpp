@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/process.hpp"
 #include "core/run.hpp"
 
 namespace fs = std::filesystem;
@@ -121,4 +122,28 @@ TEST(Cli, CaseReferenceIsGeneratedFromTheSchema) {
   EXPECT_EQ(read(source / "docs/cases.md"), r.text)
       << "docs/cases.md is stale: regenerate with `build/app/granflow schema --markdown > "
          "docs/cases.md`";
+}
+
+// A plot script that fails leaves the data and only warns a user (exit 0), but fails a run the
+// tests start: every test program sets GRANFLOW_STRICT_PLOTS=1 (tests/strict_plots.cpp), and a
+// strict run whose plot fails exits 4. The failing interpreter stands for a broken plot script.
+TEST(Cli, StrictPlotsTurnAFailedPlotIntoExitFour) {
+  const auto case_file = (source / "cases/rev/simple_shear_dry.yaml").string();
+  for (const bool strict : {true, false}) {
+    const fs::path out = scratch(strict ? "plot_strict" : "plot_lenient");
+    granflow::core::ProcessOptions options;
+    options.output = out.string() + ".log";
+    options.set_environment = {"GRANFLOW_PYTHON=/bin/false",
+                               std::string("GRANFLOW_STRICT_PLOTS=") + (strict ? "1" : "0")};
+    const auto r = granflow::core::run_process(
+        {std::string(GRANFLOW_BINARY_DIR) + "/app/granflow", "run", case_file, "--out", out.string(),
+         "--quiet"},
+        options);
+    const std::string text = read(out.string() + ".log") + read(out / "log.txt");
+    EXPECT_EQ(r.status, strict ? 4 : 0) << text;
+    EXPECT_NE(text.find("plotting with plot_rev.py failed"), std::string::npos) << text;
+    EXPECT_TRUE(fs::exists(out / "summary.json"));
+    fs::remove_all(out);
+    fs::remove(out.string() + ".log");
+  }
 }

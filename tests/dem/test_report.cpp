@@ -12,8 +12,10 @@
 #include <vector>
 
 #include "analysis/report.hpp"
+#include "core/kind_registry.hpp"
 #include "core/result_file.hpp"
 #include "core/run.hpp"
+#include "dem_coupling/dem_kind.hpp"
 #include "dem_coupling/kind/inertial_law_fit.hpp"
 #include "dem_coupling/kind/mixed_number_law_fit.hpp"
 
@@ -34,6 +36,16 @@ fs::path fresh(const std::string& name) {
 std::string read(const fs::path& file) {
   std::ifstream in(file);
   return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// The registry `granflow report` uses, with the DEM kind (its report section re-derives fits).
+const core::KindRegistry& dem_registry() {
+  static const core::KindRegistry registry = [] {
+    core::KindRegistry r;
+    dem::register_dem_kinds(r);
+    return r;
+  }();
+  return registry;
 }
 
 TEST(DemReport, DrySweepFitsAreRederivedFromResultH5) {
@@ -67,7 +79,7 @@ TEST(DemReport, DrySweepFitsAreRederivedFromResultH5) {
   }
   // Twice: the second run replaces /fits and the fit.* keys (idempotent).
   for (int pass = 0; pass < 2; ++pass) {
-    const fs::path md = analysis::write_report(dir);
+    const fs::path md = analysis::write_report(dir, dem_registry());
     const std::string text = read(md);
     EXPECT_NE(text.find("μ(I) and φ(I) fits"), std::string::npos) << text;
     EXPECT_NE(text.find("Chialvo"), std::string::npos) << text;
@@ -148,7 +160,7 @@ TEST(DemReport, WetSweepWithoutTabulatedStressRatiosGetsThemFromTheSeries) {
           {"viscous_number_err", &Je}})
       h5.write(std::string("/steady/") + name, *v, "1", "");
   }
-  const std::string text = read(analysis::write_report(dir));
+  const std::string text = read(analysis::write_report(dir, dem_registry()));
   EXPECT_NE(text.find("Mixed number K = J + α I² (free fit)"), std::string::npos) << text;
   EXPECT_NE(text.find("contact and hydrodynamic parts"), std::string::npos) << text;
   const auto s = core::Summary::read(dir / "summary.json");
@@ -185,7 +197,7 @@ TEST(DemReport, InterruptedSweepIsAnalysedFromItsFinishedConditions) {
       h5.attribute(g + "/steady", "end_strain", i == 0.15 ? 3.0 : 10.0);
     }
   }
-  const std::string text = read(analysis::write_report(dir));
+  const std::string text = read(analysis::write_report(dir, dem_registry()));
   EXPECT_NE(text.find("μ(I) and φ(I) fits"), std::string::npos) << text;
   const auto s = core::Summary::read(dir / "summary.json");
   EXPECT_EQ(s.get("fit.mu_p_0p5.points"), 6);
@@ -199,7 +211,7 @@ TEST(DemReport, NotADemResultFileIsNamed) {
   core::Summary().write(dir / "summary.json");
   { core::ResultFile h5(dir / "result.h5"); }
   try {
-    analysis::write_report(dir);
+    analysis::write_report(dir, dem_registry());
     FAIL() << "expected an error naming /steady/particle_friction";
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("/steady/particle_friction"), std::string::npos)

@@ -73,7 +73,9 @@ TEST(PairKind, TinyPairRunsEndToEnd) {
   // The continuum side by two paths (algebraic steady state, time-stepped REV): the REV stops at
   // 1e-10 relative change per unit strain, so they agree far below 1e-6.
   EXPECT_LT(s.get("pair.rev_vs_algebraic_max_rel_diff"), 1e-6);
-  const auto report = analysis::write_report(dir);
+  core::KindRegistry registry;
+  register_pair_kinds(registry);
+  const auto report = analysis::write_report(dir, registry);
   std::ifstream in(report);
   std::stringstream md;
   md << in.rdbuf();
