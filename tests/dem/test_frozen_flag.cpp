@@ -18,27 +18,13 @@
 #include <string>
 
 #include "core/run.hpp"
+#include "tests/dem/cli_run.hpp"
 
 namespace {
 
-std::filesystem::path fresh_directory(const std::string& name) {
-  const auto dir = std::filesystem::path(GRANFLOW_BINARY_DIR) / "test-dem" / name;
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
-
-int run_cli(const std::string& args, const std::filesystem::path& dir) {
-  const std::string cmd =
-      fmt::format("cd '{}' && '{}' {} > cli.txt 2>&1", dir.string(), GRANFLOW_CLI_PATH, args);
-  const int raw = std::system(cmd.c_str());
-  return WIFEXITED(raw) ? WEXITSTATUS(raw) : 128;
-}
-
-std::string read(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
+using granflow::dem::testing::fresh_directory;
+using granflow::dem::testing::read;
+using granflow::dem::testing::run_cli;
 
 std::string affine_start() {
   return fmt::format(
