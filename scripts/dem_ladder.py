@@ -17,7 +17,7 @@ large G: f2/f3 = 2 J/(15 (1 - eps^2)); the stresses scale with G).
     /usr/bin/python3 scripts/dem_ladder.py run      # runs what is missing under runs/ladder/
     /usr/bin/python3 scripts/dem_ladder.py table    # markdown tables from runs/ladder/*/result.h5
 
-Options: --granflow PATH (default build-dem/app/granflow), --out DIR (default runs/ladder),
+Options: --granflow PATH (default build/app/granflow), --out DIR (default runs/ladder),
 --only NAME[,NAME] (blocks below). Each block is one `granflow run`; a block whose result.h5
 is finished (summary.json) is not rerun.
 """
@@ -249,7 +249,7 @@ def table(args):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("what", choices=["run", "table"])
-    ap.add_argument("--granflow", default="build-dem/app/granflow")
+    ap.add_argument("--granflow", default="build/app/granflow")
     ap.add_argument("--out", default="runs/ladder")
     ap.add_argument("--only", default=",".join(BLOCKS))
     args = ap.parse_args()
