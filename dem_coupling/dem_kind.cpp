@@ -10,7 +10,7 @@
 #include <map>
 #include <span>
 
-#include "analysis/steady_state.hpp"
+#include "statistics/steady_state.hpp"
 #include "continuum/multi_regime/model_sections.hpp"
 #include "core/file_io.hpp"
 #include "core/interrupt.hpp"

@@ -10,7 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "analysis/least_squares.hpp"
+#include "statistics/least_squares.hpp"
 #include "continuum/multi_regime/model_sections.hpp"
 #include "core/result_file.hpp"
 #include "core/run.hpp"
@@ -325,9 +325,9 @@ FitResult fit(const CalibratedModel& start, const std::vector<std::string>& name
     CalibratedModel moved = start;
     for (const auto& name : names) {
       const ParameterSpec& spec = parameter_spec(name);
-      const auto bounds = analysis::ParameterBounds::between(spec.lower, spec.upper);
-      const double u = analysis::unconstrained_parameter(parameter_value(start, name), bounds);
-      set_parameter(moved, name, analysis::bounded_parameter(u + normal(rng), bounds));
+      const auto bounds = statistics::ParameterBounds::between(spec.lower, spec.upper);
+      const double u = statistics::unconstrained_parameter(parameter_value(start, name), bounds);
+      set_parameter(moved, name, statistics::bounded_parameter(u + normal(rng), bounds));
     }
     FitResult trial;
     try {
@@ -364,15 +364,15 @@ FitResult fit_from(const CalibratedModel& start, const std::vector<std::string>&
     throw std::invalid_argument(fmt::format(
         "{} residuals for {} parameters: need more data points or observables than parameters", m,
         n));
-  // Each parameter inside its open interval by the transform of analysis/least_squares.hpp
+  // Each parameter inside its open interval by the transform of statistics/least_squares.hpp
   // (logistic map of an unconstrained coordinate): no trial leaves the box, so the penalty wall
   // of earlier versions (a residual of 1e3 σ outside the interval) is gone. What remains is a
   // condition the model cannot carry at a θ inside the box (e.g. no steady state): its residuals
   // are 1e3 σ, so LM rejects that step and shortens it.
-  std::vector<analysis::ParameterBounds> bounds;
+  std::vector<statistics::ParameterBounds> bounds;
   for (const auto& name : names) {
     const ParameterSpec& spec = parameter_spec(name);
-    bounds.push_back(analysis::ParameterBounds::between(spec.lower, spec.upper));
+    bounds.push_back(statistics::ParameterBounds::between(spec.lower, spec.upper));
   }
   out.initial.resize(n);
   for (int j = 0; j < n; ++j) out.initial[j] = parameter_value(start, names[j]);
@@ -399,7 +399,7 @@ FitResult fit_from(const CalibratedModel& start, const std::vector<std::string>&
                   : unsupported_condition;
     }
   };
-  analysis::LeastSquaresOptions options;
+  statistics::LeastSquaresOptions options;
   options.max_evaluations = max_evaluations;
   // Jacobian step 1e-5 max(|θ|, 1e-3): the parameters are O(0.01-1) or factors around 1.
   options.step_floor = 1e-3;
@@ -407,8 +407,8 @@ FitResult fit_from(const CalibratedModel& start, const std::vector<std::string>&
   // the correlation-length constant with L = d).
   options.rank_tolerance = 1e-8;
   options.failed_residual = unsupported_condition;
-  const analysis::LeastSquaresFit lsq =
-      analysis::minimise_residuals(residuals, m, out.initial, bounds, options);
+  const statistics::LeastSquaresFit lsq =
+      statistics::minimise_residuals(residuals, m, out.initial, bounds, options);
   out.estimate = lsq.estimate;
   out.standard_error = lsq.standard_error;
   out.covariance = lsq.covariance;

@@ -6,7 +6,7 @@
 //
 // over the conditions i and the chosen observables k (μ, φ, T/(dγ̇)²) with the DEM standard
 // errors σ_ik (batch means, docs/dem_dataset.md). Minimised by the shared weighted least squares
-// (analysis/least_squares.hpp: Eigen's Levenberg-Marquardt with central-difference Jacobians,
+// (statistics/least_squares.hpp: Eigen's Levenberg-Marquardt with central-difference Jacobians,
 // each parameter kept inside its interval by a logistic change of variables). Covariance of the
 // estimates C = (Jᵀ W J)⁻¹, W = diag(1/σ²), J = ∂f/∂θ at the optimum (the transform's covariance
 // propagated back to θ; not rescaled by χ²_red: the DEM error bars are taken as the noise level;

@@ -6,7 +6,7 @@
 //     Boyer et al. 2011's contact part μ_c(J) and hydrodynamic part μ_h(J).
 // Used at the end of `granflow run` (dem_kind.cpp) and by `granflow report RUN_DIR`
 // (analysis/report.cpp, dem_fits_file.hpp), which re-derives it from an existing result.h5.
-// Header-only (see analysis/least_squares.hpp).
+// Header-only (see statistics/least_squares.hpp).
 #pragma once
 
 #include <fmt/format.h>
@@ -20,14 +20,14 @@
 #include <utility>
 #include <vector>
 
-#include "analysis/steady_state.hpp"
+#include "statistics/steady_state.hpp"
 #include "dem_coupling/kind/inertial_law_fit.hpp"
 #include "dem_coupling/kind/mixed_number_law_fit.hpp"
 
 namespace granflow::dem {
 
 // Steady ratio <part>/<σ_yy> over series[start:] and its standard error (correlated_mean,
-// analysis/steady_state.hpp) of the linearised residual part − ratio σ_yy (delta method, as μ in
+// statistics/steady_state.hpp) of the linearised residual part − ratio σ_yy (delta method, as μ in
 // dem_kind.cpp).
 struct StressRatio {
   double value = std::numeric_limits<double>::quiet_NaN();
@@ -37,12 +37,12 @@ inline StressRatio stress_ratio_of_series(const std::vector<double>& part,
                                           const std::vector<double>& sigma, std::size_t start) {
   StressRatio out;
   if (part.size() != sigma.size() || start + 4 > sigma.size()) return out;
-  const auto p = analysis::correlated_mean(std::span(part).subspan(start));
-  const auto s = analysis::correlated_mean(std::span(sigma).subspan(start));
+  const auto p = statistics::correlated_mean(std::span(part).subspan(start));
+  const auto s = statistics::correlated_mean(std::span(sigma).subspan(start));
   out.value = p.mean / s.mean;
   std::vector<double> residual(sigma.size());
   for (std::size_t i = 0; i < sigma.size(); ++i) residual[i] = part[i] - out.value * sigma[i];
-  out.error = analysis::correlated_mean(std::span(residual).subspan(start)).standard_error / s.mean;
+  out.error = statistics::correlated_mean(std::span(residual).subspan(start)).standard_error / s.mean;
   return out;
 }
 

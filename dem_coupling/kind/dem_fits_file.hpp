@@ -2,7 +2,7 @@
 // read the steady table of result.h5 (schema v1, docs/dem_dataset.md) and rewrite its /fits group.
 // Runs written before τ_contact/σ_yy was tabulated get it from /conditions/N/series (tau_contact,
 // tau_lub, sigma_yy) over the steady part recorded in /conditions/N/steady (start_strain).
-// Header-only (see analysis/least_squares.hpp).
+// Header-only (see statistics/least_squares.hpp).
 #pragma once
 
 #include <H5Cpp.h>

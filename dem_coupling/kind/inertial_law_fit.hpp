@@ -8,14 +8,14 @@
 // Every parameter is fitted, the published μ_0 and φ_RCP included: holding them would assume the
 // agreement that the comparison with the published values is meant to test, and the six points
 // of the dry sweep (I = 0.01-0.3) determine them to ±0.008 and ±0.0003 (docs/dem_dataset.md).
-// Weighted least squares with the DEM standard errors (analysis/least_squares.hpp), bounds by
+// Weighted least squares with the DEM standard errors (statistics/least_squares.hpp), bounds by
 // transform: I_0, c, b > 0; μ_0 >= 0; α, β in (0, 2); φ_RCP in (0, π/√18) (FCC packing). The
 // straight line φ(I) of GDR MiDi is solved in closed form.
 // Published DEM values compared with (the I → 0 limits μ_s|μ_0 and φ_c|φ_RCP):
 //   μ_p = 0.5: μ_s ≈ 0.35-0.38, φ_c ≈ 0.587 (Chialvo, Sun & Sundaresan 2012, PRE 85, 021305),
 //   μ_p = 0:   μ_0 ≈ 0.10 (internal friction angle ≈ 5.8°), φ_RCP ≈ 0.639
 //              (Peyneau & Roux 2008, PRE 78, 011307; Chialvo et al. 2012).
-// Header-only (see analysis/least_squares.hpp).
+// Header-only (see statistics/least_squares.hpp).
 #pragma once
 
 #include <algorithm>
@@ -28,15 +28,15 @@
 #include <string>
 #include <vector>
 
-#include "analysis/least_squares.hpp"
+#include "statistics/least_squares.hpp"
 #include "dem_coupling/kind/gdr_midi_law.hpp"
 #include "dem_coupling/kind/peyneau_roux_law.hpp"
 
 namespace granflow::dem {
 
-using analysis::LeastSquaresFit;
-using analysis::LineFit;
-using analysis::ParameterBounds;
+using statistics::LeastSquaresFit;
+using statistics::LineFit;
+using statistics::ParameterBounds;
 
 enum class DryLaw { gdr_midi, peyneau_roux };
 
@@ -196,7 +196,7 @@ LeastSquaresFit best_of(const Model& model, const std::vector<double>& y,
                         const std::vector<ParameterBounds>& bounds) {
   LeastSquaresFit best;
   for (const Eigen::VectorXd& start : starts) {
-    LeastSquaresFit trial = analysis::weighted_least_squares(model, y, sigma, start, bounds);
+    LeastSquaresFit trial = statistics::weighted_least_squares(model, y, sigma, start, bounds);
     if (std::isfinite(trial.chi2) && (best.estimate.size() == 0 || trial.chi2 < best.chi2))
       best = std::move(trial);
   }
@@ -247,7 +247,7 @@ inline InertialLawFit fit_inertial_law(double particle_friction, DryLaw law,
   };
   constexpr double inf = std::numeric_limits<double>::infinity();
   if (law == DryLaw::gdr_midi) {
-    fit.phi = line_as_fit(analysis::weighted_line(I, fit.solid_fraction, fit.solid_fraction_err));
+    fit.phi = line_as_fit(statistics::weighted_line(I, fit.solid_fraction, fit.solid_fraction_err));
     fit.mu.dof = n - 3;
     if (n < 4) return fit;
     // Starts: μ_s just below the smallest μ, μ_2 above the largest, and I_0 over a decade ladder

@@ -3,7 +3,7 @@
 //
 // Mixed number K = J + α I² (Trulsson, Andreotti & Claudin 2012, PRL 109, 118305; Ness & Sun 2015)
 // with a μ(K) of the μ(I) form and μ_1, μ_2, K_0 and α fitted together (weighted least squares,
-// analysis/least_squares.hpp; K_0 > 0 and α > 0 by the transform θ = e^u):
+// statistics/least_squares.hpp; K_0 > 0 and α > 0 by the transform θ = e^u):
 //   μ(K) = μ_1 + (μ_2 − μ_1)/(1 + K_0/K),
 // then, with that α, φ(K) = φ_m/(1 + b K^½) (φ_m and b > 0 fitted; Boyer's φ(J) form in K).
 // This replaces the one-parameter α of mixed_number_fit.hpp (Boyer's constants imposed), which is
@@ -15,7 +15,7 @@
 //   hydrodynamic part μ_h(J) = J + (5/2) ν_m J^½,          ν_m = 0.585,
 // and φ(J) = ν_m/(1 + J^½). The DEM's τ_contact/σ_yy is compared with μ_c and τ_lub/σ_yy with μ_h:
 // the DEM has pairwise lubrication for h < h_max only, no far-field hydrodynamics.
-// Header-only (see analysis/least_squares.hpp).
+// Header-only (see statistics/least_squares.hpp).
 #pragma once
 
 #include <algorithm>
@@ -23,12 +23,12 @@
 #include <limits>
 #include <vector>
 
-#include "analysis/least_squares.hpp"
+#include "statistics/least_squares.hpp"
 
 namespace granflow::dem {
 
-using analysis::LeastSquaresFit;
-using analysis::ParameterBounds;
+using statistics::LeastSquaresFit;
+using statistics::ParameterBounds;
 
 namespace boyer2011 {
 constexpr double mu_1 = 0.32, mu_2 = 0.7, j_0 = 0.005, nu_m = 0.585;
@@ -100,7 +100,7 @@ inline MixedNumberLawFit fit_mixed_number_law(const std::vector<double>& viscous
     for (double alpha : {0.01, 0.1, 1.0, 10.0}) {
       Eigen::VectorXd start(4);
       start << *lo - 0.02, *hi + 0.2, k_0, alpha;
-      LeastSquaresFit trial = analysis::weighted_least_squares(
+      LeastSquaresFit trial = statistics::weighted_least_squares(
           mu_model, fit.friction, fit.friction_err, start,
           {ParameterBounds{}, ParameterBounds{}, ParameterBounds::positive(),
            ParameterBounds::positive()});
@@ -116,7 +116,7 @@ inline MixedNumberLawFit fit_mixed_number_law(const std::vector<double>& viscous
   Eigen::VectorXd start(2);
   start << *std::max_element(fit.solid_fraction.begin(), fit.solid_fraction.end()) + 0.01, 1.0;
   fit.phi =
-      analysis::weighted_least_squares(phi_model, fit.solid_fraction, fit.solid_fraction_err, start,
+      statistics::weighted_least_squares(phi_model, fit.solid_fraction, fit.solid_fraction_err, start,
                                        {ParameterBounds{}, ParameterBounds::positive()});
   return fit;
 }

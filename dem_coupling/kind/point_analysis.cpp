@@ -8,7 +8,7 @@
 #include <map>
 #include <span>
 
-#include "analysis/steady_state.hpp"
+#include "statistics/steady_state.hpp"
 #include "dem_coupling/kind/dem_fits.hpp"
 #include "dem_coupling/kind/series_table.hpp"
 #include "dem_coupling/kind/steady_checks.hpp"
@@ -18,12 +18,12 @@ namespace granflow::dem {
 namespace {
 
 // Steady value of one series: MSER start (given), mean and a standard error that accounts for
-// the correlation of the samples (analysis::correlated_mean).
+// the correlation of the samples (statistics::correlated_mean).
 struct Steady {
   double mean, error;
 };
 Steady steady_of(const std::vector<double>& series, std::size_t start) {
-  const auto e = analysis::correlated_mean(std::span(series).subspan(start));
+  const auto e = statistics::correlated_mean(std::span(series).subspan(start));
   return {e.mean, e.standard_error};
 }
 
@@ -127,7 +127,7 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
   // Steady start: the latest MSER-5 truncation among the main observables.
   std::size_t start = 0;
   for (const char* name : {"sigma_yy", "tau", "phi", "T"})
-    start = std::max(start, analysis::mser_truncation(t.at(name), 5));
+    start = std::max(start, statistics::mser_truncation(t.at(name), 5));
   const auto& sigma = t.at("sigma_yy");
   const auto& tau = t.at("tau");
   const Steady s_sigma = steady_of(sigma, start);
@@ -175,7 +175,7 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
   v["end_strain"] = t.at("strain").back();
   v["samples"] = double(t.rows() - start);
   v["tau_int_mu"] =
-      analysis::integrated_autocorrelation_time(std::span<const double>(residual).subspan(start));
+      statistics::integrated_autocorrelation_time(std::span<const double>(residual).subspan(start));
   if (p.constant_pressure) {
     // The servo holds the mean σ_yy (extraction/normal_stress_servo.hpp); a miss of more than
     // max_target_miss standard errors is flagged (kind/steady_checks.hpp).

@@ -2,8 +2,8 @@
 // profile.tsv) into result.h5 under `group`, then the steady values with their standard errors
 // and the steadiness checks (kind/steady_checks.hpp) as PointResult::values, the names of
 // summary.json without the "steady." prefix (docs/dem_dataset.md).
-//   start: the latest MSER-5 truncation of σ_yy, τ, φ, T (analysis/steady_state.hpp);
-//   means and standard errors: analysis::correlated_mean of series[start:];
+//   start: the latest MSER-5 truncation of σ_yy, τ, φ, T (statistics/steady_state.hpp);
+//   means and standard errors: statistics::correlated_mean of series[start:];
 //   μ = <τ>/<σ_yy>, its error that of the linearised residual τ − μ σ_yy over <σ_yy> (delta
 //   method); I from <σ_yy>, e from <φ>.
 #pragma once

@@ -1,5 +1,5 @@
 // Seed-to-seed statistics of a DEM sweep over dem.seed (docs/dem_dataset.md, "Error bars").
-// A point's standard errors (analysis::correlated_mean) hold the sampling noise of one run only;
+// A point's standard errors (statistics::correlated_mean) hold the sampling noise of one run only;
 // two samples drawn with different seeds differ by more near jamming (e.g. σ_yy 102 ± 15 and
 // 64.5 ± 4 Pa at φ 0.578). A sweep that lists dem.seed (`--set 'sweep.dem.seed=[1,2,3,4]'`)
 // is grouped by its other swept keys, and per group and observable x over the N seeds with a

@@ -4,7 +4,7 @@
 // Drift: every reported observable (named as the steady.* keys: p = σ_yy, tau, p_mean = tr(P)/3,
 // phi, e, T, Z, and mu through the linearised residual τ − μ σ_yy whose error is μ's) is cut
 // into the two halves of the window
-// series[start:]; z = (mean_2 − mean_1) / combined standard error (analysis::drift_test). The
+// series[start:]; z = (mean_2 − mean_1) / combined standard error (statistics::drift_test). The
 // window is steady when every |z| <= 3 (max_drift): a stationary window fails on one observable
 // with probability ~0.25 % (tests/analysis/test_correlated_error.cpp), on any of the eight
 // (correlated) in ~1-2 % of runs; a drift of 12 standard errors of the window's mean over the
@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-#include "analysis/steady_state.hpp"
+#include "statistics/steady_state.hpp"
 #include "dem_coupling/kind/series_table.hpp"
 
 namespace granflow::dem {
@@ -44,7 +44,7 @@ inline SteadyCheck check_steady(const SeriesTable& t, std::size_t start,
                                 const std::vector<double>& mu_residual) {
   SteadyCheck c;
   auto test = [&](const std::string& name, const std::vector<double>& series) {
-    const double z = analysis::drift_test(std::span(series).subspan(start)).z;
+    const double z = statistics::drift_test(std::span(series).subspan(start)).z;
     c.drift.emplace_back(name, z);
     if (!std::isfinite(z) || std::abs(z) > max_drift) c.reached = false;
     if (std::isfinite(z) && std::abs(z) >= c.worst) {

@@ -1,5 +1,5 @@
 // The rheology fits of DEM sweeps (dem_coupling/kind/): weighted least squares
-// (analysis/least_squares.hpp), μ(I) and φ(I) with the law chosen per friction (GDR MiDi for
+// (statistics/least_squares.hpp), μ(I) and φ(I) with the law chosen per friction (GDR MiDi for
 // frictional, Peyneau & Roux for frictionless spheres), the free mixed-number law μ(K)
 // with α and Boyer's contact/hydrodynamic split. Synthetic data with known parameters
 // and Gaussian noise of known σ.
@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "analysis/least_squares.hpp"
+#include "statistics/least_squares.hpp"
 #include "dem_coupling/kind/dem_fits.hpp"
 #include "dem_coupling/kind/inertial_law_fit.hpp"
 #include "dem_coupling/kind/mixed_number_law_fit.hpp"
@@ -17,8 +17,8 @@
 namespace {
 
 using namespace granflow::dem;
-using granflow::analysis::weighted_least_squares;
-using granflow::analysis::weighted_line;
+using granflow::statistics::weighted_least_squares;
+using granflow::statistics::weighted_line;
 
 // The dry sweep's inertial numbers (cases/dem/dry_sweep.yaml) plus two.
 const std::vector<double> sweep_inertial = {0.01, 0.02, 0.05, 0.1, 0.2, 0.3, 0.03, 0.15};

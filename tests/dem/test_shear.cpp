@@ -10,7 +10,7 @@
 #include <span>
 #include <sstream>
 
-#include "analysis/steady_state.hpp"
+#include "statistics/steady_state.hpp"
 #include "dem_coupling/deck/shear_deck.hpp"
 #include "tests/dem/driver_runner.hpp"
 
@@ -140,8 +140,8 @@ TEST(DemShear, OneAndTwoRanksAgree) {
     const auto& s1 = one.series.at(c);
     const auto& s2 = two.series.at(c);
     const std::size_t start = s1.size() / 4;  // strain >= 1.5: past the start-up transient
-    const auto e1 = granflow::analysis::batch_means(std::span(s1).subspan(start), 10);
-    const auto e2 = granflow::analysis::batch_means(std::span(s2).subspan(start), 10);
+    const auto e1 = granflow::statistics::batch_means(std::span(s1).subspan(start), 10);
+    const auto e2 = granflow::statistics::batch_means(std::span(s2).subspan(start), 10);
     EXPECT_LT(std::abs(e1.mean - e2.mean), 4.0 * std::hypot(e1.standard_error, e2.standard_error))
         << c << ": " << e1.mean << " +- " << e1.standard_error << " vs " << e2.mean << " +- "
         << e2.standard_error;
@@ -163,7 +163,7 @@ TEST(DemShear, ServoHoldsTheNormalStress) {
   const auto& sigma = run.series.at("sigma_yy");
   const auto& phi = run.series.at("phi");
   const std::size_t start = sigma.size() / 2;  // strain >= 3
-  const auto e = granflow::analysis::batch_means(std::span(sigma).subspan(start), 10);
+  const auto e = granflow::statistics::batch_means(std::span(sigma).subspan(start), 10);
   // 300 particles: sigma_yy fluctuates by ~30 % per sample; the mean over 3 strain units has a
   // standard error of a few %. A working servo is within 4 standard errors + 10 % (the integral
   // controller's small bias from the convex sigma(phi)); without it sigma_yy stays ~10x off.

@@ -41,7 +41,7 @@
 #include <unsupported/Eigen/NumericalDiff>
 #include <vector>
 
-namespace granflow::analysis {
+namespace granflow::statistics {
 
 // The open interval (lower, upper) a parameter must stay in; ±∞ for an open side.
 struct ParameterBounds {
@@ -310,4 +310,4 @@ inline LineFit weighted_line(const std::vector<double>& x, const std::vector<dou
   return fit;
 }
 
-}  // namespace granflow::analysis
+}  // namespace granflow::statistics

@@ -1,4 +1,4 @@
-// The shared weighted least squares (analysis/least_squares.hpp) used by the calibration and the
+// The shared weighted least squares (statistics/least_squares.hpp) used by the calibration and the
 // DEM rheology fits: bounds enforced by a change of variables, errors propagated back to θ.
 // Straight lines, whose constrained and unconstrained optima have closed forms.
 #include <gtest/gtest.h>
@@ -7,9 +7,9 @@
 #include <limits>
 #include <vector>
 
-#include "analysis/least_squares.hpp"
+#include "statistics/least_squares.hpp"
 
-namespace granflow::analysis {
+namespace granflow::statistics {
 namespace {
 
 constexpr double inf = std::numeric_limits<double>::infinity();
@@ -139,4 +139,4 @@ TEST(LeastSquaresFitBounds, StartOutsideItsBoxIsRefused) {
 }
 
 }  // namespace
-}  // namespace granflow::analysis
+}  // namespace granflow::statistics

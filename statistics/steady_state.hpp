@@ -29,7 +29,7 @@
 #include <cstddef>
 #include <span>
 
-namespace granflow::analysis {
+namespace granflow::statistics {
 
 // Index of the first sample of the steady part (a multiple of batch_size).
 std::size_t mser_truncation(std::span<const double> series, std::size_t batch_size = 5);
@@ -75,4 +75,4 @@ struct SteadyEstimate {
 SteadyEstimate steady_state(std::span<const double> series, std::size_t mser_batch = 5,
                             std::size_t batches = 0);
 
-}  // namespace granflow::analysis
+}  // namespace granflow::statistics

@@ -1,4 +1,4 @@
-#include "analysis/steady_state.hpp"
+#include "statistics/steady_state.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <numeric>
 #include <vector>
 
-namespace granflow::analysis {
+namespace granflow::statistics {
 
 namespace {
 double mean_of(std::span<const double> x) {
@@ -156,4 +156,4 @@ SteadyEstimate steady_state(std::span<const double> series, std::size_t mser_bat
   return s;
 }
 
-}  // namespace granflow::analysis
+}  // namespace granflow::statistics

@@ -8,15 +8,15 @@
 #include <random>
 #include <vector>
 
-#include "analysis/steady_state.hpp"
+#include "statistics/steady_state.hpp"
 
 namespace {
 
-using granflow::analysis::batch_means;
-using granflow::analysis::integrated_autocorrelation_time;
-using granflow::analysis::mser_truncation;
-using granflow::analysis::steady_state;
-using granflow::analysis::student_t_975;
+using granflow::statistics::batch_means;
+using granflow::statistics::integrated_autocorrelation_time;
+using granflow::statistics::mser_truncation;
+using granflow::statistics::steady_state;
+using granflow::statistics::student_t_975;
 
 std::vector<double> ar1(std::mt19937_64& rng, std::size_t n, double mu, double a, double sigma) {
   std::normal_distribution<double> normal(0.0, 1.0);

@@ -1,4 +1,4 @@
-// Correlation-aware standard errors and the drift test (analysis/steady_state.hpp) on synthetic
+// Correlation-aware standard errors and the drift test (statistics/steady_state.hpp) on synthetic
 // AR(1) series x_t = mu + a (x_{t-1} - mu) + sigma eps_t: Var(x) = sigma^2 / (1 - a^2),
 // tau_int = (1 + a) / (1 - a), and the variance of the mean of n stationary samples is
 //   Var(mean) = Var(x)/n [ (1 + a)/(1 - a) - 2 a (1 - a^n) / (n (1 - a)^2) ]
@@ -10,14 +10,14 @@
 #include <random>
 #include <vector>
 
-#include "analysis/steady_state.hpp"
+#include "statistics/steady_state.hpp"
 
 namespace {
 
-using granflow::analysis::batch_means;
-using granflow::analysis::correlated_mean;
-using granflow::analysis::drift_test;
-using granflow::analysis::mser_truncation;
+using granflow::statistics::batch_means;
+using granflow::statistics::correlated_mean;
+using granflow::statistics::drift_test;
+using granflow::statistics::mser_truncation;
 
 std::vector<double> ar1(std::mt19937_64& rng, std::size_t n, double a, double sigma = 1.0) {
   std::normal_distribution<double> normal(0.0, 1.0);
