@@ -10,14 +10,9 @@
 #include <fstream>
 #include <string>
 
-namespace granflow::dem::testing {
+#include "tests/dem/scratch_dir.hpp"
 
-inline std::filesystem::path fresh_directory(const std::string& name) {
-  const auto dir = std::filesystem::path(GRANFLOW_BINARY_DIR) / "test-dem" / name;
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+namespace granflow::dem::testing {
 
 // `granflow ARGS` in `dir`, its output in dir/cli.txt; the exit status.
 inline int run_cli(const std::string& args, const std::filesystem::path& dir) {

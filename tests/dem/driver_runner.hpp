@@ -11,15 +11,9 @@
 
 #include "dem_coupling/kind/series_table.hpp"
 #include "tests/dem/driver_deck.hpp"
+#include "tests/dem/scratch_dir.hpp"
 
 namespace granflow::dem::testing {
-
-inline std::filesystem::path fresh_directory(const std::string& name) {
-  const auto dir = std::filesystem::path(GRANFLOW_BINARY_DIR) / "test-dem" / name;
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
 
 struct DriverRun {
   int status = -1;
