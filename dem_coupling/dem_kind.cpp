@@ -20,9 +20,11 @@
 #include "dem_coupling/kind/launch.hpp"
 #include "dem_coupling/kind/mixed_number_fit.hpp"
 #include "dem_coupling/kind/point_analysis.hpp"
+#include "dem_coupling/kind/prepare_kind.hpp"
 #include "dem_coupling/kind/report_section.hpp"
 #include "dem_coupling/kind/series_table.hpp"
 #include "dem_coupling/kind/shear_start_keys.hpp"
+#include "dem_coupling/kind/transient.hpp"
 
 namespace granflow::dem {
 
@@ -118,9 +120,11 @@ int run_shear(core::RunContext& ctx) {
       seed_of.push_back(c.integer("dem.seed") + long(k));
       if (seeds > 1) swept.back().emplace_back("dem.seed", double(seed_of.back()));
     }
+  TransientShear transient(ctx.run_case);  // start.preparation (kind/transient.hpp)
   auto params_of = [&](std::size_t n) {
     ShearDeckParams p = read_shear_params(conditions[n]);
     p.seed = static_cast<unsigned long>(seed_of[n]);
+    transient.apply(conditions[n], p);
     return p;
   };
   const bool sweep = ctx.run_case.is_sweep() || seeds > 1;
@@ -233,6 +237,7 @@ int run_shear(core::RunContext& ctx) {
     }
     const std::string suffix = sweep ? fmt::format(".{}", n) : "";
     for (const auto& [name, value] : r.values) ctx.summary.set("steady." + name + suffix, value);
+    transient.absorb(ctx, n, dir, group, p, suffix);
     ctx.summary.set("dem.particles" + suffix, r.particles);
     ctx.summary.set("dem.dt" + suffix, r.dt);
     ctx.summary.set("dem.dt_limit" + suffix, dt_limit_index(deck.dt_limit));
@@ -436,6 +441,7 @@ int run_shear(core::RunContext& ctx) {
           fit.alpha, fit.rms, fit.chi2_per_dof, fit.points);
     }
   }
+  transient.finish(ctx, swept);
   if (code == core::exit_ok || failed < double(results.size())) ctx.plot("plot_dem.py");
   return code;
 }
@@ -452,7 +458,9 @@ void register_dem_kinds(core::KindRegistry& registry) {
                         "cases/dem/dry_point.yaml"};
   entry.distributes_conditions = true;
   entry.report = dem_report_section;
+  entry.check_inputs = check_preparation_inputs;
   registry.add(std::move(entry));
+  register_prepare_kind(registry);
 }
 
 }  // namespace granflow::dem

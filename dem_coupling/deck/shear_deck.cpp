@@ -390,6 +390,33 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
   driver.particle_density = m.particle_density;
   const double skin = 0.2 * out.mean_diameter;
   const double top_speed = p.shear_rate * out.box_length;
+  // The start: the random gas compressed to φ (stage 1), or a prepared state read whole.
+  const bool prepared = !p.prepared_restart.empty();
+  const std::string start_commands =
+      prepared ? fmt::format("# prepared state (kind: dem_prepare): atoms, box, contact history\n"
+                             "read_restart    {}\ncommunicate     single vel yes",
+                             p.prepared_restart)
+               : fmt::format("read_data       {}", data_file_name);
+  const std::string stage1 =
+      prepared
+          ? std::string("# ---- stage 1: none, the prepared state is at rest at its p0 (after a\n"
+                        "# restart LIGGGHTS wants reset_timestep right before a run)\n"
+                        "reset_timestep  0\nrun             0\n")
+          : fmt::format(
+                "# ---- stage 1: isotropic compression from the random insertion at phi = "
+                "{0:.6g} to phi =\n# {1:.6g} (box edge {2:.6g} m -> {3:.6g} m)\n"
+                "fix             gf_compress all deform 1 x final 0 {3:.17g} y final 0 {3:.17g} "
+                "z final 0 {3:.17g} remap x\nrun             {4}\nunfix           gf_compress\n",
+                out.insertion_solid_fraction, p.solid_fraction, out.initial_box_length,
+                out.box_length, compression);
+  const std::string ramp =
+      prepared ? fmt::format("variable        gf_ylo equal ylo\nvariable        gf_yhi equal yhi\n"
+                             "variable        gf_vtop equal {:.17g}*ly\n"
+                             "velocity        all ramp vx 0 ${{gf_vtop}} y ${{gf_ylo}} ${{gf_yhi}} "
+                             "units box sum yes",
+                             p.shear_rate)
+               : fmt::format("velocity        all ramp vx 0 {:.17g} y 0 {:.17g} units box sum yes",
+                             top_speed, out.box_length);
   out.deck = fmt::format(
       R"(# granflow DEM deck: Lees-Edwards periodic simple shear, LIGGGHTS 3.8.0 (Debian).
 # Run it with the granflow-dem driver, NOT plain liggghts: the driver repairs the triclinic
@@ -408,7 +435,7 @@ variable gf_velocity_seed equal {vseed}
 {atom_setup}# fix deform flips the box only at re-neighbouring, so |xy| may exceed Lx/2 for a few steps;
 # allow that when the servo's change_box re-checks the box (error otherwise)
 box             tilt large
-read_data       {data}
+{read}
 neighbor        {skin:.17g} bin
 neigh_modify    delay 0
 
@@ -421,14 +448,9 @@ thermo_style    custom step atoms ke c_gf_virial[2] c_gf_virial[4]
 thermo_modify   norm no lost error
 thermo          {thermo_comp}
 
-# ---- stage 1: isotropic compression from the random insertion at phi = {phi0:.6g} to phi =
-# {phi:.6g} (box edge {l0:.6g} m -> {l1:.6g} m)
-fix             gf_compress all deform 1 x final 0 {l1:.17g} y final 0 {l1:.17g} z final 0 {l1:.17g} remap x
-run             {ncomp}
-unfix           gf_compress
-
+{stage1}
 # ---- stage 2: Lees-Edwards simple shear u_x = gd (y - ylo): streaming profile + tilt rate
-velocity        all ramp vx 0 {vtop:.17g} y 0 {l1:.17g} units box sum yes
+{ramp}
 fix             gf_shear all deform 1 xy erate {gd:.17g} remap v
 thermo          0                            # thermo (and the virial) at the end of each sampled chunk
 {stress_average})",
@@ -441,21 +463,19 @@ thermo          0                            # thermo (and the virial) at the en
                             "{:.4g} m/s)",
                             p.dt_safety, out.times.rayleigh, out.times.hertz, reference_speed)),
       fmt::arg("gd", p.shear_rate), fmt::arg("driver_parameters", driver_parameter_lines(driver)),
-      fmt::arg("atom_setup", granular_atom_setup()), fmt::arg("data", data_file_name),
+      fmt::arg("atom_setup", granular_atom_setup()), fmt::arg("read", start_commands),
+      fmt::arg("stage1", stage1), fmt::arg("ramp", ramp),
       fmt::arg("skin", skin),
       fmt::arg("contact", contact_law_commands(m, out.mean_diameter)), fmt::arg("dt", out.dt),
       fmt::arg("thermo_comp", std::max(1L, p.compression_steps / 5)),
-      fmt::arg("phi", p.solid_fraction), fmt::arg("l0", out.initial_box_length),
-      fmt::arg("phi0", out.insertion_solid_fraction), fmt::arg("t0", out.initial_temperature),
+      fmt::arg("t0", out.initial_temperature),
       fmt::arg("t0_scaled", out.initial_temperature / (out.mean_diameter * p.shear_rate *
                                                        out.mean_diameter * p.shear_rate)),
       fmt::arg("t0_rule", p.initial_temperature >= 0.0 ? ", control.initial_temperature"
                           : p.constant_pressure
                               ? ", kinetic theory's homogeneous shear at the imposed I"
                               : ", kinetic theory's homogeneous shear f2/f3 at phi"),
-      fmt::arg("vseed", p.seed % 2147483647UL), fmt::arg("l1", out.box_length),
-      fmt::arg("ncomp", compression), fmt::arg("stress_average", stress_average),
-      fmt::arg("vtop", top_speed));
+      fmt::arg("vseed", p.seed % 2147483647UL), fmt::arg("stress_average", stress_average));
   out.deck += fluid_fix;
   return out;
 }

@@ -98,6 +98,10 @@ struct ShearDeckParams {
   int profile_bins = 10;
   long compression_steps = 10000;
   WetShear wet;
+  // Start from a prepared state (kind: dem_prepare, preparation_deck.hpp): the LIGGGHTS restart
+  // file read instead of the random gas and its compression (the box and contact history come
+  // from it; the friction is this material's); empty: the gas.
+  std::string prepared_restart;
 };
 
 struct ShearDeck {

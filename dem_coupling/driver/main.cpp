@@ -7,12 +7,15 @@
 // 1. constructs the LIGGGHTS instance and applies the triclinic workaround (liggghts_access.cpp)
 //    and registers granflow's own fix styles (fix_styles.cpp);
 // 2. reads DECK (sample preparation; defines the gf_* parameters and fix gf_shear);
+//    A preparation deck (gf_prepare_pressure; deck/preparation_deck.hpp) runs the preparation
+//    stage instead (driver/prepare_stage.hpp) and stops;
 // 2b. adds the starting velocity fluctuations: Gaussian, granular temperature
 //    gf_initial_temperature about the streaming profile, zero total momentum (add_fluctuations);
 // 3. runs the shear stage in chunks of gf_sample_every steps (`run N start S stop E pre no`,
 //    so fix deform's tilt stays continuous inside a segment) and after each chunk samples
 //    the atom arrays through the instance (lammps_extract_atom, the pair's neighbour list) and
-//    the contact virial, reduces the sums over ranks (one MPI_Allreduce) and rank 0 appends a
+//    the contact virial and the contact network (driver/contact_probe.hpp: Z without rattlers,
+//    fabric), reduces the sums over ranks (one MPI_Allreduce) and rank 0 appends a
 //    row to the series file (flushed, so a run stopped by an error keeps what it wrote). The
 //    virial is the mean over every step of the chunk when the deck defines fix gf_stress
 //    (ave/time 1 n n over compute gf_virial; dry decks), else compute gf_virial at the sample's
@@ -42,6 +45,8 @@
 #include <string>
 #include <vector>
 
+#include "dem_coupling/driver/contact_probe.hpp"
+#include "dem_coupling/driver/prepare_stage.hpp"
 #include "dem_coupling/extraction/normal_stress_servo.hpp"
 #include "dem_coupling/extraction/shear_sample.hpp"
 #include "dem_coupling/fix_styles.hpp"
@@ -167,13 +172,14 @@ void write_series_header(std::FILE* f, bool wet) {
                "Pkin_xx\tPkin_yy\tPkin_zz\tPkin_xy\tPkin_xz\tPkin_yz\t"
                "P_xx\tP_yy\tP_zz\tP_xy\tP_xz\tP_yz\t"
                "sigma_yy\ttau\tp\tmu\tT\tphi\te\tI\tZ\td_mean\t"
-               "momentum_x\tmomentum_y\tmomentum_z\tparticles\tprofile_deviation\toverlap");
+               "momentum_x\tmomentum_y\tmomentum_z\tparticles\tprofile_deviation\toverlap\t"
+               "Z_nr\tnonrattler_fraction\tfabric_xy\tanisotropy");
   if (wet) std::fprintf(f, "\ttau_contact\ttau_lub\ttau_drag\ttau_kin\tlubricated_pairs");
   std::fputc('\n', f);
 }
 
 void write_series_row(std::FILE* f, const ShearSample& s, double overlap,
-                      const FluidStress* fluid) {
+                      const granflow::dem::NetworkState& network, const FluidStress* fluid) {
   std::fprintf(f, "%ld\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g", s.step, s.time, s.strain,
                s.box.lx, s.box.ly, s.box.lz, s.box.xy, s.box.volume());
   for (double v : s.virial_stress) std::fprintf(f, "\t%.10g", v);
@@ -185,6 +191,8 @@ void write_series_row(std::FILE* f, const ShearSample& s, double overlap,
   std::fprintf(f, "\t%.17g\t%.17g\t%.17g\t%.0f\t%.10g\t%.10g", s.peculiar_momentum[0],
                s.peculiar_momentum[1], s.peculiar_momentum[2], s.particles, s.profile_deviation,
                overlap);
+  std::fprintf(f, "\t%.10g\t%.10g\t%.10g\t%.10g", network.coordination_nonrattler,
+               network.nonrattler_fraction, network.fabric[3], network.anisotropy);
   if (fluid)
     std::fprintf(f, "\t%.17g\t%.17g\t%.17g\t%.17g\t%.0f", fluid->contact, fluid->lubrication,
                  fluid->drag, fluid->kinetic, fluid->lubricated_pairs);
@@ -313,6 +321,15 @@ int main(int argc, char** argv) {
       usage_error(rank, "cannot open deck " + opt.deck);
   }
   lammps_file(handle, opt.deck.c_str());
+  // Preparation decks (deck/preparation_deck.hpp): the preparation stage instead of the shear.
+  if (void* p =
+          lammps_extract_variable(handle, const_cast<char*>("gf_prepare_pressure"), nullptr)) {
+    std::free(p);
+    const int code = granflow::dem::run_preparation(handle, *lmp, rank);
+    lammps_close(handle);
+    MPI_Finalize();
+    return code;
+  }
 
   // Optional (decks before the starting-state keys have none): the starting fluctuations.
   if (void* p =
@@ -468,10 +485,13 @@ int main(int argc, char** argv) {
         s.strain = shear_rate * s.time;
         check_sample(s, rank);
         const double overlap = mean_overlap(handle, *lmp);
+        // Z without rattlers, the non-rattler fraction and the fabric (contact_probe.hpp)
+        const granflow::dem::NetworkState network =
+            granflow::dem::probe_contacts(handle, *lmp, {}).network;
         FluidStress fluid;
         if (wet) fluid = fluid_stress(handle, s, rank);
         if (rank == 0) {
-          write_series_row(series, s, overlap, wet ? &fluid : nullptr);
+          write_series_row(series, s, overlap, network, wet ? &fluid : nullptr);
           write_profile_row(profile, s);
         }
         ++samples;

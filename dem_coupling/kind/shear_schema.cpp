@@ -161,6 +161,25 @@ core::Schema shear_schema() {
       .default_value("1")
       .at_least(1)
       .at_most(64);
+  auto& start = s.section("start", "the state the shear starts from (docs/transient_dem.md)");
+  start.string("preparation",
+               "a kind: dem_prepare run directory: seed S starts from its seed_S packing at rest "
+               "(box, φ0, p0, contacts; friction switched to material.particle_friction; T0 = 0 "
+               "unless control.initial_temperature; control.solid_fraction, dem.particles and "
+               "dem.compression_steps unused); absent: the random gas compressed to φ");
+  auto& transient = s.section("transient", "metrics of a run started from a prepared state");
+  transient
+      .number("liquefaction_fraction", "",
+              "liquefied where p' = tr(σ)/3 < fraction × p0 (p0 the prepared mean stress)")
+      .default_value("0.05")
+      .greater_than(0)
+      .less_than(1);
+  transient
+      .number("residual_fraction", "",
+              "residual τ and p': means over the last fraction of the strain")
+      .default_value("0.2")
+      .greater_than(0)
+      .at_most(1);
   auto& output = s.section("output", "what is written");
   output.integer("profile_bins", "y bins of the mean velocity profile")
       .default_value("10")

@@ -1,0 +1,271 @@
+#include "dem_coupling/kind/transient.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+
+#include "dem_coupling/kind/prepare_kind.hpp"
+#include "dem_coupling/kind/series_table.hpp"
+#include "statistics/steady_state.hpp"
+
+namespace granflow::dem {
+
+namespace {
+
+std::filesystem::path preparation_directory(const core::Case& c) {
+  const std::filesystem::path p(c.string("start.preparation"));
+  if (p.is_absolute() || std::filesystem::exists(p)) return std::filesystem::absolute(p);
+  const auto beside_case = std::filesystem::path(c.origin()).parent_path() / p;
+  if (std::filesystem::exists(beside_case)) return std::filesystem::absolute(beside_case);
+  return p;
+}
+
+// The `kind:` line of a run directory's case.yaml (written by granflow), or "".
+std::string kind_of_run(const std::filesystem::path& dir) {
+  std::ifstream in(dir / "case.yaml");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("kind:", 0) == 0) {
+      std::string kind = line.substr(5);
+      kind.erase(0, kind.find_first_not_of(" \t\"'"));
+      kind.erase(kind.find_last_not_of(" \t\"'\r") + 1);
+      return kind;
+    }
+  return "";
+}
+
+}  // namespace
+
+TransientMetrics transient_metrics(std::span<const double> strain, std::span<const double> p,
+                                   std::span<const double> tau, double p0,
+                                   double liquefaction_fraction, double residual_fraction) {
+  TransientMetrics m;
+  const std::size_t n = std::min({strain.size(), p.size(), tau.size()});
+  if (n == 0) return m;
+  const std::size_t peak =
+      std::size_t(std::max_element(tau.begin(), tau.begin() + long(n)) - tau.begin());
+  m.peak_tau = tau[peak];
+  m.peak_strain = strain[peak];
+  for (std::size_t i = 0; i < n; ++i)
+    if (p[i] < liquefaction_fraction * p0) {
+      m.liquefaction_strain = strain[i];
+      break;
+    }
+  const double from = (1.0 - residual_fraction) * strain[n - 1];
+  std::size_t start = 0;
+  while (start + 1 < n && strain[start] < from) ++start;
+  const auto tail_tau = tau.subspan(start, n - start);
+  const auto tail_p = p.subspan(start, n - start);
+  if (tail_tau.size() >= 8) {
+    const auto t = statistics::correlated_mean(tail_tau);
+    const auto q = statistics::correlated_mean(tail_p);
+    m.residual_tau = t.mean;
+    m.residual_tau_err = t.standard_error;
+    m.residual_p = q.mean;
+    m.residual_p_err = q.standard_error;
+  } else {  // too short for batch means: the plain mean, no error bar
+    double st = 0, sp = 0;
+    for (std::size_t i = 0; i < tail_tau.size(); ++i) st += tail_tau[i], sp += tail_p[i];
+    m.residual_tau = st / double(tail_tau.size());
+    m.residual_p = sp / double(tail_p.size());
+  }
+  m.p_final_over_p0 = m.residual_p / p0;
+  return m;
+}
+
+PreparedState read_prepared_state(const core::Case& c, long seed) {
+  const auto dir = preparation_directory(c);
+  if (!std::filesystem::is_directory(dir))
+    c.fail("start.preparation",
+           fmt::format("a kind: dem_prepare run directory; {} is not a directory", dir.string()));
+  if (const std::string kind = kind_of_run(dir); kind != "dem_prepare")
+    c.fail("start.preparation",
+           fmt::format("a kind: dem_prepare run directory; {} is not one ({})", dir.string(),
+                       kind.empty() ? "no case.yaml" : "its case.yaml says kind: " + kind));
+  const auto seed_dir = prepared_seed_directory(dir, seed);
+  PreparedState s;
+  s.restart = seed_dir / "prepared.restart";
+  const SeriesTable t = std::filesystem::exists(s.restart)
+                            ? read_series_table(seed_dir / "prepared.tsv")
+                            : SeriesTable{};
+  if (t.rows() != 1)
+    c.fail("start.preparation",
+           fmt::format("a prepared state for dem.seed {}: {} has none (prepared.restart and "
+                       "prepared.tsv; the preparation failed, or prepared fewer seeds)",
+                       seed, seed_dir.string()));
+  if (s.restart.string().find_first_of(" \t\n\"'") != std::string::npos)
+    c.fail(
+        "start.preparation",
+        fmt::format("a path without spaces or quotes (LIGGGHTS reads it): {}", s.restart.string()));
+  s.phi = t.at("phi")[0];
+  s.p = t.at("p")[0];
+  s.sigma_yy = t.at("sigma_yy")[0];
+  s.particles = t.at("particles")[0];
+  return s;
+}
+
+void check_preparation_inputs(const core::Case& run_case) {
+  if (!run_case.has("start.preparation")) return;
+  const long seeds = run_case.integer("statistics.seeds");
+  for (const core::Case& c : run_case.expand_sweep())
+    for (long k = 0; k < seeds; ++k) read_prepared_state(c, c.integer("dem.seed") + k);
+}
+
+TransientShear::TransientShear(const core::Case& run_case)
+    : enabled_(run_case.has("start.preparation")),
+      fraction_(run_case.number("transient.liquefaction_fraction")),
+      residual_(run_case.number("transient.residual_fraction")) {}
+
+void TransientShear::apply(const core::Case& c, ShearDeckParams& p) const {
+  if (!enabled_) return;
+  const PreparedState s = read_prepared_state(c, long(p.seed));
+  p.prepared_restart = s.restart.string();
+  p.particles = std::lround(s.particles);
+  p.solid_fraction = s.phi;
+  if (!c.has("control.initial_temperature")) p.initial_temperature = 0.0;
+}
+
+void TransientShear::absorb(core::RunContext& ctx, std::size_t n, const std::filesystem::path& dir,
+                            const std::string& group, const ShearDeckParams& p,
+                            const std::string& suffix) {
+  if (!enabled_) return;
+  const SeriesTable t = read_series_table(dir / "series.tsv");
+  if (t.rows() == 0) return;
+  // series.tsv column, dataset name, unit, meaning (extraction/contact_network.hpp)
+  constexpr const char* network[][4] = {
+      {"Z_nr", "coordination_number_nonrattler", "1",
+       "coordination without rattlers (< 2 contacts, removed repeatedly)"},
+      {"nonrattler_fraction", "nonrattler_fraction", "1",
+       "fraction of the particles that are not rattlers"},
+      {"fabric_xy", "fabric_xy", "1", "xy entry of the trace-free fabric <n n> - I/3"},
+      {"anisotropy", "fabric_anisotropy", "1", "fabric anisotropy sqrt(3/2 F':F')"},
+  };
+  for (const auto& [column, name, unit, doc] : network)
+    ctx.result.write(group + "/series/" + name, t.at(column), unit, doc);
+  const PreparedState s = read_prepared_state(ctx.run_case, long(p.seed));
+  Point& point = points_[n];
+  point.strain = t.at("strain");
+  point.p = t.at("p");
+  point.sigma_yy = t.at("sigma_yy");
+  point.tau = t.at("tau");
+  point.z_nr = t.at("Z_nr");
+  point.nonrattler = t.at("nonrattler_fraction");
+  point.p0 = s.p;
+  point.phi0 = s.phi;
+  point.metrics = transient_metrics(point.strain, point.p, point.tau, s.p, fraction_, residual_);
+  const TransientMetrics& m = point.metrics;
+  const std::pair<const char*, double> values[] = {
+      {"p0", s.p},
+      {"phi0", s.phi},
+      {"first_p_over_p0", point.p.front() / s.p},
+      {"peak_tau", m.peak_tau},
+      {"peak_strain", m.peak_strain},
+      {"liquefied", m.liquefaction_strain >= 0.0 ? 1.0 : 0.0},
+      {"residual_tau", m.residual_tau},
+      {"residual_tau_err", m.residual_tau_err},
+      {"residual_p", m.residual_p},
+      {"residual_p_err", m.residual_p_err},
+      {"p_final_over_p0", m.p_final_over_p0},
+  };
+  for (const auto& [name, value] : values) {
+    ctx.summary.set(fmt::format("transient.{}{}", name, suffix), value);
+    ctx.result.attribute(group + "/series", std::string("transient_") + name, value);
+  }
+  if (m.liquefaction_strain >= 0.0)
+    ctx.summary.set(fmt::format("transient.liquefaction_strain{}", suffix), m.liquefaction_strain);
+  ctx.log->info(
+      "point {}: from rest at φ0 = {:.4f}, p0 = {:.4g} Pa: peak τ = {:.4g} Pa at γ = {:.3g}; {}; "
+      "residual τ = {:.4g} ± {:.2g} Pa, p = {:.4g} Pa = {:.3g} p0",
+      n, s.phi, s.p, m.peak_tau, m.peak_strain,
+      m.liquefaction_strain >= 0.0
+          ? fmt::format("liquefied (p < {:g} p0) at γ = {:.3g}", fraction_, m.liquefaction_strain)
+          : fmt::format("not liquefied (p >= {:g} p0 throughout)", fraction_),
+      m.residual_tau, m.residual_tau_err, m.residual_p, m.p_final_over_p0);
+}
+
+void TransientShear::finish(core::RunContext& ctx, const std::vector<Condition>& swept) {
+  if (!enabled_ || points_.empty()) return;
+  std::vector<SeedGroup> groups = group_by_seed(swept);
+  if (groups.empty())  // one seed per condition: each its own group
+    for (std::size_t n = 0; n < swept.size(); ++n) groups.push_back({swept[n], {n}});
+  const bool several = groups.size() > 1;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    std::vector<const Point*> members;
+    for (std::size_t n : groups[g].members)
+      if (points_.count(n)) members.push_back(&points_.at(n));
+    if (members.empty()) continue;
+    std::size_t rows = members.front()->strain.size();
+    for (const Point* m : members) rows = std::min(rows, m->strain.size());
+    const std::string group = fmt::format("/transient/group_{}", g);
+    const std::string key_suffix = several ? fmt::format(".{}", g) : std::string();
+    auto band = [&](std::vector<double> Point::*series, const char* name, const char* unit,
+                    const char* doc) {
+      std::vector<double> mean(rows), low(rows), high(rows);
+      for (std::size_t i = 0; i < rows; ++i) {
+        double sum = 0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (const Point* m : members) {
+          const double v = (m->*series)[i];
+          sum += v, lo = std::min(lo, v), hi = std::max(hi, v);
+        }
+        mean[i] = sum / double(members.size()), low[i] = lo, high[i] = hi;
+      }
+      ctx.result.write(group + "/" + name + "_mean", mean, unit,
+                       std::string(doc) + ": mean over the seeds, sample by sample");
+      ctx.result.write(group + "/" + name + "_min", low, unit, std::string(doc) + ": lowest seed");
+      ctx.result.write(group + "/" + name + "_max", high, unit,
+                       std::string(doc) + ": highest seed");
+    };
+    std::vector<double> strain(members.front()->strain.begin(),
+                               members.front()->strain.begin() + long(rows));
+    ctx.result.write(group + "/strain", strain, "1", "shear strain of the samples");
+    band(&Point::p, "p", "Pa", "mean stress p' = tr(P)/3");
+    band(&Point::sigma_yy, "sigma_yy", "Pa", "normal stress σ_yy");
+    band(&Point::tau, "tau", "Pa", "shear stress τ");
+    band(&Point::z_nr, "Z_nr", "1", "coordination without rattlers");
+    band(&Point::nonrattler, "nonrattler_fraction", "1", "non-rattler fraction");
+    // Metrics: mean over the seeds and its standard error (between-seed sd / sqrt(N)).
+    auto stats = [&](auto get, const char* name) {
+      std::vector<double> v;
+      for (const Point* m : members)
+        if (const double x = get(*m); std::isfinite(x)) v.push_back(x);
+      if (v.empty()) return;
+      double sum = 0, sum2 = 0;
+      for (double x : v) sum += x, sum2 += x * x;
+      const double k = double(v.size()), mean = sum / k;
+      const double var = k > 1 ? std::max(0.0, (sum2 - k * mean * mean) / (k - 1)) : 0.0;
+      ctx.summary.set(fmt::format("transient.mean.{}{}", name, key_suffix), mean);
+      ctx.summary.set(fmt::format("transient.err.{}{}", name, key_suffix), std::sqrt(var / k));
+      ctx.result.attribute(group, std::string("mean_") + name, mean);
+      ctx.result.attribute(group, std::string("err_") + name, std::sqrt(var / k));
+    };
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    stats([](const Point& m) { return m.p0; }, "p0");
+    stats([](const Point& m) { return m.phi0; }, "phi0");
+    stats([](const Point& m) { return m.metrics.peak_tau; }, "peak_tau");
+    stats([](const Point& m) { return m.metrics.peak_strain; }, "peak_strain");
+    stats([](const Point& m) { return m.metrics.residual_tau; }, "residual_tau");
+    stats([](const Point& m) { return m.metrics.residual_p; }, "residual_p");
+    stats([](const Point& m) { return m.metrics.p_final_over_p0; }, "p_final_over_p0");
+    stats(
+        [&](const Point& m) {
+          return m.metrics.liquefaction_strain >= 0 ? m.metrics.liquefaction_strain : nan;
+        },
+        "liquefaction_strain");
+    double liquefied = 0;
+    for (const Point* m : members) liquefied += m->metrics.liquefaction_strain >= 0 ? 1 : 0;
+    ctx.summary.set("transient.liquefied_seeds" + key_suffix, liquefied);
+    ctx.summary.set("transient.seeds" + key_suffix, double(members.size()));
+    ctx.result.attribute(group, "liquefaction_fraction", fraction_);
+    ctx.result.attribute(group, "liquefied_seeds", liquefied);
+    ctx.result.attribute(group, "seeds", double(members.size()));
+    ctx.log->info("transient{}: {} of {} seeds liquefied (p < {:g} p0)", key_suffix, liquefied,
+                  members.size(), fraction_);
+  }
+  ctx.result.flush();
+  ctx.plot("plot_transient_dem.py");
+}
+
+}  // namespace granflow::dem

@@ -1,0 +1,81 @@
+// `kind: dem` started from a prepared state (start.preparation: a `kind: dem_prepare` run
+// directory; docs/transient_dem.md): the transient from rest at constant volume (the undrained
+// test of a saturated sample, whose incompressible liquid keeps the volume) and its metrics.
+//   p0: the prepared mean stress of the seed's packing (prepared.tsv);
+//   peak τ and its strain: the largest τ sample;
+//   liquefaction strain: the first strain where p = tr(P)/3 < f p0 (f = transient.
+//     liquefaction_fraction, 0.05 by default, the seed paper's and the usual 5 % of p0); absent
+//     (transient.liquefied = 0) when p never falls below it;
+//   residual τ, p: mean over the samples of the last part of the run (strain >= (1 - r) γ_total,
+//     r = transient.residual_fraction) with its correlated standard error
+//     (statistics::correlated_mean), and p_final_over_p0 = residual p / p0.
+// Several seeds (statistics.seeds): seed S starts from the preparation's seed_S packing; the
+// series are reported as the mean and the band (min, max) over the seeds, sample by sample
+// (/transient/group_G), the metrics as the mean over the seeds and its standard error.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/case.hpp"
+#include "core/run.hpp"
+#include "dem_coupling/deck/shear_deck.hpp"
+#include "dem_coupling/kind/seed_statistics.hpp"
+
+namespace granflow::dem {
+
+struct TransientMetrics {
+  double peak_tau = 0, peak_strain = 0;
+  double liquefaction_strain = -1;  // -1: p never fell below the threshold
+  double residual_tau = 0, residual_tau_err = 0, residual_p = 0, residual_p_err = 0;
+  double p_final_over_p0 = 0;
+};
+
+TransientMetrics transient_metrics(std::span<const double> strain, std::span<const double> p,
+                                   std::span<const double> tau, double p0,
+                                   double liquefaction_fraction, double residual_fraction);
+
+// The prepared state of one seed: the restart file and the state it holds.
+struct PreparedState {
+  std::filesystem::path restart;
+  double phi = 0, p = 0, sigma_yy = 0, particles = 0;
+};
+
+// Reads DIR/seed_S/prepared.tsv of start.preparation (resolved from the working directory, then
+// beside the case file); a missing directory, one that is no dem_prepare run or one without this
+// seed's state is a one-line case error naming start.preparation (exit 2).
+PreparedState read_prepared_state(const core::Case& c, long seed);
+
+// KindEntry::check_inputs of kind: dem: every condition and seed has its prepared state.
+void check_preparation_inputs(const core::Case& run_case);
+
+class TransientShear {
+ public:
+  explicit TransientShear(const core::Case& run_case);
+  bool enabled() const { return enabled_; }
+  // A prepared start: the restart, its particle count and φ, and T0 = 0 unless
+  // control.initial_temperature is given. No-op without start.preparation.
+  void apply(const core::Case& c, ShearDeckParams& p) const;
+  // One finished point: the network series (Z_nr, nonrattler_fraction, fabric_xy, anisotropy)
+  // under group/series, its metrics under group/transient and transient.NAME{suffix}.
+  void absorb(core::RunContext& ctx, std::size_t n, const std::filesystem::path& dir,
+              const std::string& group, const ShearDeckParams& p, const std::string& suffix);
+  // Seed bands and means (/transient/group_G, transient.mean.NAME, transient.err.NAME) and the
+  // plot.
+  void finish(core::RunContext& ctx, const std::vector<Condition>& swept);
+
+ private:
+  struct Point {
+    std::vector<double> strain, p, sigma_yy, tau, z_nr, nonrattler;
+    TransientMetrics metrics;
+    double p0 = 0, phi0 = 0;
+  };
+  bool enabled_ = false;
+  double fraction_ = 0.05, residual_ = 0.2;
+  std::map<std::size_t, Point> points_;
+};
+
+}  // namespace granflow::dem
