@@ -1,5 +1,6 @@
 // What every run has: its directory (never overwritten silently), log, result.h5, summary.json,
-// progress reporting, cost accounting, and the numerical-failure stop.
+// progress reporting, cost accounting, and the numerical-failure stop
+// (core/numerical_failure.hpp).
 #pragma once
 
 #include <spdlog/logger.h>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "core/case.hpp"
+#include "core/numerical_failure.hpp"
 #include "core/result_file.hpp"
 
 namespace granflow::core {
@@ -28,21 +30,6 @@ enum ExitCode : int {
   exit_io = 5  // an output could not be written (the line names the path and the system's reason)
 };
 // An interrupted run exits 128 + the signal: 130 (SIGINT), 143 (SIGTERM); core/interrupt.hpp.
-
-// A numerical failure stops the run with a message naming the step, the point and the variable;
-// whatever the run wrote before stays on disk.
-class NumericalFailure : public std::runtime_error {
- public:
-  NumericalFailure(long step, std::string point, std::string variable, double value,
-                   std::string why);
-  long step;
-  std::string point, variable;
-  double value;
-};
-
-// Throws NumericalFailure if `value` is NaN/Inf (or negative when `non_negative`).
-void check_finite(double value, long step, const std::string& point, const std::string& variable,
-                  bool non_negative = false);
 
 // Written into every run directory when it is created; --force replaces only directories that
 // hold it (or a closure study's study_marker, or a run directory of a granflow from before the

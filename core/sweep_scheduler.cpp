@@ -79,33 +79,16 @@ std::vector<double> Unpacker::numbers() {
   return values;
 }
 
-namespace {
-
-// NumericalFailure's message is "numerical failure at step S, P: V = X (why)": recover `why` so
-// that the rebuilt failure says exactly what the original said.
-[[noreturn]] void rethrow_numerical_failure(std::int64_t step, const std::string& point,
-                                            const std::string& variable, double value,
-                                            const std::string& what) {
-  const std::string head =
-      fmt::format("numerical failure at step {}, {}: {} = {} (", step, point, variable, value);
-  std::string why = what;
-  if (what.starts_with(head) && what.ends_with(")"))
-    why = what.substr(head.size(), what.size() - head.size() - 1);
-  throw NumericalFailure(step, point, variable, value, why);
-}
-
-}  // namespace
-
 void pack_numerical_failure(Packer& packer, const NumericalFailure& failure) {
   packer.integer(failure.step).text(failure.point).text(failure.variable).number(failure.value);
-  packer.text(failure.what());
+  packer.text(failure.why);
 }
 
 void throw_numerical_failure(Unpacker& unpacker) {
   const std::int64_t step = unpacker.integer();
   const std::string point = unpacker.text(), variable = unpacker.text();
   const double value = unpacker.number();
-  rethrow_numerical_failure(step, point, variable, value, unpacker.text());
+  throw NumericalFailure(step, point, variable, value, unpacker.text());
 }
 
 // ---- one condition computed away from the run's logger ---------------------------------------
@@ -133,7 +116,7 @@ struct Outcome {
   int rank = 0;
   double seconds = 0;
   int failure = none;
-  std::string what;  // exception message
+  std::string what;  // exception message (a numerical failure: its `why`)
   std::int64_t step = 0;
   std::string point, variable;
   double value = 0;
@@ -184,7 +167,7 @@ Outcome compute_outcome(const ComputeCondition& compute, std::size_t index,
     o.payload = compute({index, log, run_directory, rank});
   } catch (const NumericalFailure& e) {
     o.failure = numerical;
-    o.what = e.what();
+    o.what = e.why;  // rebuilt on rank 0 with the step, point and variable
     o.step = e.step;
     o.point = e.point;
     o.variable = e.variable;
@@ -211,7 +194,7 @@ void absorb_outcome(RunContext& ctx, const Outcome& o, const AbsorbCondition& ab
     ctx.log->log(static_cast<spdlog::level::level_enum>(level), "{}", line);
   switch (o.failure) {
     case numerical:
-      rethrow_numerical_failure(o.step, o.point, o.variable, o.value, o.what);
+      throw NumericalFailure(o.step, o.point, o.variable, o.value, o.what);
     case bad_input:
       throw CaseError(o.what);
     case other:

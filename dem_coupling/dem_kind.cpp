@@ -11,7 +11,7 @@
 #include <span>
 
 #include "statistics/steady_state.hpp"
-#include "continuum/multi_regime/model_sections.hpp"
+#include "continuum/sections/model_sections.hpp"
 #include "core/file_io.hpp"
 #include "core/interrupt.hpp"
 #include "core/process.hpp"

@@ -12,7 +12,7 @@
 #include "analysis/calibration/calibrate_report.hpp"
 #include "analysis/calibration/calibration.hpp"
 #include "analysis/calibration/dem_table.hpp"
-#include "continuum/multi_regime/model_sections.hpp"
+#include "continuum/sections/model_sections.hpp"
 #include "core/file_io.hpp"
 
 namespace granflow::calibration {

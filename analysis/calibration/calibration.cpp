@@ -11,7 +11,7 @@
 #include <stdexcept>
 
 #include "statistics/least_squares.hpp"
-#include "continuum/multi_regime/model_sections.hpp"
+#include "continuum/sections/model_sections.hpp"
 #include "core/result_file.hpp"
 #include "core/run.hpp"
 

@@ -7,7 +7,7 @@
 
 #include "analysis/calibration/calibration.hpp"
 #include "analysis/calibration/dem_table.hpp"
-#include "continuum/multi_regime/model_sections.hpp"
+#include "continuum/sections/model_sections.hpp"
 
 namespace granflow::calibration {
 

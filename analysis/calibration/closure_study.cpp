@@ -14,7 +14,7 @@
 #include <sstream>
 
 #include "analysis/calibration/calibrate_kind.hpp"
-#include "continuum/multi_regime/model_sections.hpp"
+#include "continuum/sections/model_sections.hpp"
 #include "core/file_io.hpp"
 #include "core/interrupt.hpp"
 #include "core/run.hpp"

@@ -11,7 +11,7 @@
 
 #include "analysis/calibration/calibration.hpp"
 #include "analysis/pair/pair_report.hpp"
-#include "continuum/multi_regime/model_sections.hpp"
+#include "continuum/sections/model_sections.hpp"
 #include "continuum/rev/simple_shear.hpp"
 #include "core/interrupt.hpp"
 #include "core/sweep_scheduler.hpp"

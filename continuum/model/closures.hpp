@@ -5,7 +5,7 @@
 // look-up or a virtual call.
 //
 // Conventions: SI units; ν = solid volume fraction = 1/(1+e); T = granular temperature (m²/s²);
-// pressures compression-positive.
+// pressures compression-positive (docs/model/conventions.md).
 #pragma once
 
 #include <iterator>

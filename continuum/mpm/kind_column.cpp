@@ -5,7 +5,9 @@
 #include <vector>
 
 #include "continuum/mpm/analytic.hpp"
+#include "continuum/mpm/kind_geometry.hpp"
 #include "continuum/mpm/kind_run.hpp"
+#include "continuum/mpm/linear_elastic.hpp"
 #include "continuum/mpm/problems.hpp"
 
 namespace granflow::mpm::kind {
@@ -18,18 +20,17 @@ void column_inputs(const core::Case& c) {
 int run_column(core::RunContext& ctx) {
   const core::Case& c = ctx.run_case;
   ColumnSpec cs;
-  cs.width = c.number("geometry.width");
-  cs.height = c.number("geometry.height");
-  cs.cell = c.number("geometry.cell");
-  cs.points_per_cell = static_cast<int>(c.integer("geometry.points_per_cell"));
-  cs.empty_rows = static_cast<int>(c.integer("geometry.empty_rows"));
-  cs.young_modulus = c.number("solid.young_modulus");
-  cs.poisson_ratio = c.number("solid.poisson_ratio");
-  cs.density = c.number("solid.density");
+  read_box(c, cs);
+  // The constants of the exact solution at rest (K0 = ν/(1-ν), ρ g); the column itself is the
+  // material `solid.material` names.
+  const LinearElasticParameters elastic = read_linear_elastic(c);
+  cs.young_modulus = elastic.young_modulus;
+  cs.poisson_ratio = elastic.poisson_ratio;
+  cs.density = elastic.density;
   cs.gravity = c.number("loading.gravity");
   cs.options = read_options(c);
   column_inputs(c);
-  auto s = make_elastic_column(cs);
+  auto s = make_elastic_column(cs, material_registry().create(c));
   RunHistory history = restore_run(ctx, *s);
   report_setup(ctx, *s, history);
   const double ms0 = history.get("mass.solid0", s->total_mass(Phase::solid));

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "continuum/mpm/analytic.hpp"
+#include "continuum/mpm/kind_geometry.hpp"
 #include "continuum/mpm/kind_run.hpp"
 #include "continuum/mpm/problems.hpp"
 
@@ -19,11 +20,7 @@ void couette_inputs(const core::Case& c) {
 int run_couette(core::RunContext& ctx) {
   const core::Case& c = ctx.run_case;
   CouetteSpec cs;
-  cs.inner_radius = c.number("geometry.inner_radius");
-  cs.outer_radius = c.number("geometry.outer_radius");
-  cs.cells_r = static_cast<int>(c.integer("geometry.cells_r"));
-  cs.cells_theta = static_cast<int>(c.integer("geometry.cells_theta"));
-  cs.points_per_cell = static_cast<int>(c.integer("geometry.points_per_cell"));
+  read_annulus(c, cs);
   cs.density = c.number("liquid.density");
   cs.viscosity = c.number("liquid.viscosity");
   cs.bulk_modulus = c.number("liquid.bulk_modulus");

@@ -11,9 +11,10 @@
 #include <utility>
 #include <vector>
 
+#include "continuum/mpm/kind_geometry.hpp"
 #include "continuum/mpm/kind_run.hpp"
 #include "continuum/mpm/rheometer.hpp"
-#include "continuum/multi_regime/model_sections.hpp"
+#include "continuum/sections/model_sections.hpp"
 
 namespace granflow::mpm::kind {
 
@@ -203,11 +204,7 @@ void rheometer_summary(core::RunContext& ctx, const RheometerSeries& se, const R
 
 RheometerSpec read_rheometer(const core::Case& c) {
   RheometerSpec r;
-  r.inner_radius = c.number("geometry.inner_radius");
-  r.outer_radius = c.number("geometry.outer_radius");
-  r.cells_r = static_cast<int>(c.integer("geometry.cells_r"));
-  r.cells_theta = static_cast<int>(c.integer("geometry.cells_theta"));
-  r.points_per_cell = static_cast<int>(c.integer("geometry.points_per_cell"));
+  read_annulus(c, r);
   r.void_ratio = c.number("initial.void_ratio");
   r.effective_pressure = c.number("initial.effective_pressure");
   r.pore_pressure = c.number("initial.pore_pressure");

@@ -55,25 +55,20 @@ class FrameSchedule {
 };
 
 // The time loop of every problem: runs the solver to `end_time` (one segment of the run), with its
-// field frames, progress and failure translation; `after_step` is called after every step, before
-// the frames due are written. Returns the solver wall time.
+// field frames and progress (a core::NumericalFailure of the solver stops the run, exit 3);
+// `after_step` is called after every step, before the frames due are written. Returns the solver
+// wall time.
 template <class AfterStep>
 double advance(core::RunContext& ctx, Solver& s, double end_time, FrameSchedule& frames,
                AfterStep&& after_step) {
   core::Progress progress(ctx.log, "simulated time", end_time);
   const auto start = std::chrono::steady_clock::now();
-  try {
-    frames.write_initial(s);
-    while (s.time() < end_time - 0.5 * s.dt() && !core::interrupted()) {
-      s.step();
-      after_step();
-      frames.write_due(ctx, s);
-      progress.update(s.time());
-    }
-  } catch (const SolverFailure& f) {
-    // A material's failure has no step (-1): it happened in the step being taken.
-    throw core::NumericalFailure(f.step >= 0 ? f.step : s.steps() + 1, f.point, f.variable, f.value,
-                                 f.what());
+  frames.write_initial(s);
+  while (s.time() < end_time - 0.5 * s.dt() && !core::interrupted()) {
+    s.step();
+    after_step();
+    frames.write_due(ctx, s);
+    progress.update(s.time());
   }
   if (core::interrupted())
     ctx.log->warn("interrupted by {} at step {}, t = {:.6g} s (end time {:g} s)",

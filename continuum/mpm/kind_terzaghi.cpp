@@ -10,7 +10,9 @@
 
 #include "continuum/model/closures.hpp"
 #include "continuum/mpm/analytic.hpp"
+#include "continuum/mpm/kind_geometry.hpp"
 #include "continuum/mpm/kind_run.hpp"
+#include "continuum/mpm/linear_elastic.hpp"
 #include "continuum/mpm/problems.hpp"
 
 namespace granflow::mpm::kind {
@@ -24,15 +26,14 @@ void terzaghi_inputs(const core::Case& c) {
 int run_terzaghi(core::RunContext& ctx) {
   const core::Case& c = ctx.run_case;
   TerzaghiSpec t;
-  t.height = c.number("geometry.height");
-  t.width = c.number("geometry.width");
-  t.cell = c.number("geometry.cell");
-  t.points_per_cell = static_cast<int>(c.integer("geometry.points_per_cell"));
-  t.empty_rows = static_cast<int>(c.integer("geometry.empty_rows"));
-  t.young_modulus = c.number("solid.young_modulus");
-  t.poisson_ratio = c.number("solid.poisson_ratio");
+  read_box(c, t);
+  // The constants of Terzaghi's solution (an elastic skeleton); the skeleton itself is the
+  // material `solid.material` names.
+  const LinearElasticParameters elastic = read_linear_elastic(c);
+  t.young_modulus = elastic.young_modulus;
+  t.poisson_ratio = elastic.poisson_ratio;
+  t.grain_density = elastic.density;
   t.porosity = c.number("solid.porosity");
-  t.grain_density = c.number("solid.density");
   t.liquid_density = c.number("liquid.density");
   t.bulk_modulus = c.number("liquid.bulk_modulus");
   t.hydraulic_conductivity = c.number("liquid.hydraulic_conductivity");
@@ -46,7 +47,7 @@ int run_terzaghi(core::RunContext& ctx) {
   t.undrained_start = c.boolean("loading.undrained_start");
   t.options = read_options(c);
   terzaghi_inputs(c);
-  auto s = make_terzaghi(t);
+  auto s = make_terzaghi(t, material_registry().create(c));
   RunHistory history = restore_run(ctx, *s);
   report_setup(ctx, *s, history);
   const TerzaghiConstants k = terzaghi_constants(t);

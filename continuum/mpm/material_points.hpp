@@ -1,7 +1,8 @@
 // Material points stored as one array per field, per phase (structure of arrays, as in Karamelo):
 // no per-point objects, so the particle loops stream through contiguous memory.
 // Sign convention inside the solver: stresses tension-positive; the pore pressure p is
-// compression-positive (total stress σ = σ' - p I).
+// compression-positive (total stress σ = σ' - p I). The constitutive model is compression-
+// positive: docs/model/conventions.md (multi_regime_material.cpp converts).
 #pragma once
 
 #include <cstddef>

@@ -9,8 +9,10 @@
 #include <cmath>
 
 #include "continuum/model/closures.hpp"
+#include "continuum/mpm/kind_geometry.hpp"
 #include "continuum/mpm/kind_run.hpp"
-#include "continuum/multi_regime/model_sections.hpp"
+#include "continuum/mpm/material_registry.hpp"
+#include "continuum/sections/model_sections.hpp"
 
 namespace granflow::mpm {
 
@@ -80,25 +82,11 @@ core::Schema terzaghi_schema() {
       "mpm", "terzaghi",
       "Terzaghi 1D consolidation with the two-phase double-point MPM: drained top, impermeable "
       "base, pore pressure isochrones and settlement against the analytic series.");
-  auto& g = s.section("geometry", "layer and background grid");
-  g.number("height", "m", "layer height H").default_value("1.0").greater_than(0);
-  g.number("width", "m", "column width (a multiple of the cell size)")
-      .default_value("0.1")
-      .greater_than(0);
-  g.number("cell", "m", "square cell size h").default_value("0.1").greater_than(0).sweepable();
-  g.integer("points_per_cell", "material points per cell and direction (each phase)")
-      .default_value("2")
-      .at_least(1);
-  g.integer("empty_rows", "empty grid rows above the layer (expelled liquid)")
-      .default_value("2")
-      .at_least(1);
+  kind::box_geometry(s, {"0.1", "1.0", "0.1", "layer"});
   auto& m = s.section("solid", "solid skeleton (solid points)");
-  m.choice("material", {"linear_elastic"}, "constitutive model of the solid points")
-      .default_value("linear_elastic");
-  m.number("young_modulus", "Pa", "E").default_value("1.0e7").greater_than(0);
-  m.number("poisson_ratio", "1", "ν").default_value("0.0").at_least(0).less_than(0.5);
+  material_registry().declare(
+      m, {{"young_modulus", "1.0e7"}, {"poisson_ratio", "0.0"}, {"density", "2650"}});
   m.number("porosity", "1", "n").default_value("0.3").greater_than(0).less_than(1);
-  m.number("density", "kg/m^3", "grain density ρ_s").default_value("2650").greater_than(0);
   auto& l = s.section("liquid", "pore liquid (liquid points)");
   l.number("density", "kg/m^3", "ρ_w").default_value("1000").greater_than(0);
   l.number("bulk_modulus", "Pa", "K_w (2.2e9 for water; a reduced value is a reported choice)")
@@ -143,12 +131,7 @@ core::Schema couette_schema() {
       "mpm", "couette",
       "Couette flow of a Newtonian liquid alone between two cylinders on the polar O-grid: the "
       "steady v_θ = A r + B / r.");
-  auto& g = s.section("geometry", "annulus and polar grid");
-  g.number("inner_radius", "m", "R1 (fixed wall)").default_value("1.0").greater_than(0);
-  g.number("outer_radius", "m", "R2 (moving wall)").default_value("2.0").greater_than(0);
-  g.integer("cells_r", "radial cells").default_value("10").at_least(1).sweepable();
-  g.integer("cells_theta", "tangential cells").default_value("64").at_least(8).sweepable();
-  g.integer("points_per_cell", "points per cell and direction").default_value("2").at_least(1);
+  kind::annulus_geometry(s, {"1.0", "2.0", "10", "64", "fixed wall", "moving wall", 1, false});
   auto& l = s.section("liquid", "liquid points");
   l.number("density", "kg/m^3", "ρ_w").default_value("1000").greater_than(0);
   l.number("viscosity", "Pa s", "Newtonian viscosity η0").default_value("1000").greater_than(0);
@@ -171,17 +154,10 @@ core::Schema column_schema() {
       "mpm", "elastic_column",
       "Elastic column under gravity on a fixed base with roller sides, brought to rest with local "
       "damping: σ_yy = -ρ g (H - y) at the points.");
-  auto& g = s.section("geometry", "column and grid");
-  g.number("width", "m", "column width").default_value("0.2").greater_than(0);
-  g.number("height", "m", "column height H").default_value("1.0").greater_than(0);
-  g.number("cell", "m", "square cell size h").default_value("0.05").greater_than(0).sweepable();
-  g.integer("points_per_cell", "points per cell and direction").default_value("2").at_least(1);
-  g.integer("empty_rows", "empty grid rows above").default_value("2").at_least(1);
+  kind::box_geometry(s, {"0.2", "1.0", "0.05", "column"});
   auto& m = s.section("solid", "solid points");
-  m.choice("material", {"linear_elastic"}, "constitutive model").default_value("linear_elastic");
-  m.number("young_modulus", "Pa", "E").default_value("1.0e6").greater_than(0);
-  m.number("poisson_ratio", "1", "ν").default_value("0.3").at_least(0).less_than(0.5);
-  m.number("density", "kg/m^3", "ρ").default_value("2000").greater_than(0);
+  material_registry().declare(
+      m, {{"young_modulus", "1.0e6"}, {"poisson_ratio", "0.3"}, {"density", "2000"}});
   auto& ld = s.section("loading", "body force");
   ld.number("gravity", "m/s^2", "g").default_value("9.81").greater_than(0);
   auto& r = s.section("run", "duration");
@@ -203,25 +179,15 @@ void check_common(const core::Case& c) {
     c.fail("numerics.pressure_relaxation_time", "0 with gimp (nodal averaging with linear shapes)");
 }
 
-bool multiple(double length, double cell) {
-  const double k = length / cell;
-  return std::fabs(k - std::round(k)) < 1e-9 * std::max(1.0, k) && std::round(k) >= 1;
-}
-
-void check_terzaghi(const core::Case& c) {
+// terzaghi and elastic_column
+void check_box_problem(const core::Case& c) {
   check_common(c);
-  if (!multiple(c.number("geometry.height"), c.number("geometry.cell")))
-    c.fail("geometry.cell", "a cell size that divides geometry.height");
-  if (!multiple(c.number("geometry.width"), c.number("geometry.cell")))
-    c.fail("geometry.width", "a multiple of geometry.cell");
+  kind::check_box(c);
 }
 
 void check_couette(const core::Case& c) {
   check_common(c);
-  if (c.string("numerics.shape") != "linear")
-    c.fail("numerics.shape", "linear (the polar grid has linear shape functions only)");
-  if (!(c.number("geometry.outer_radius") > c.number("geometry.inner_radius")))
-    c.fail("geometry.outer_radius", "a value > geometry.inner_radius");
+  kind::check_annulus(c);
   if (!(c.number("run.average_from") < c.number("run.end_time")))
     c.fail("run.average_from", "a time < run.end_time");
   // The error is measured at the interior node rings (the two walls are prescribed).
@@ -231,14 +197,6 @@ void check_couette(const core::Case& c) {
            "cell has none)");
 }
 
-void check_column(const core::Case& c) {
-  check_common(c);
-  if (!multiple(c.number("geometry.height"), c.number("geometry.cell")))
-    c.fail("geometry.cell", "a cell size that divides geometry.height");
-  if (!multiple(c.number("geometry.width"), c.number("geometry.cell")))
-    c.fail("geometry.width", "a multiple of geometry.cell");
-}
-
 // ---- rheometer (docs/rheometer.md) -------------------------------------------------------------
 
 core::Schema rheometer_schema() {
@@ -246,15 +204,7 @@ core::Schema rheometer_schema() {
       "mpm", "rheometer",
       "The seed's undrained constant-volume annular rheometer (section 6) with the double-point "
       "MPM and the multi-regime material: outer ring v_θ = a t up to v_max, inner ring fixed.");
-  auto& g = s.section("geometry", "annulus and polar grid");
-  g.number("inner_radius", "m", "R_in (fixed ring)").default_value("0.08").greater_than(0);
-  g.number("outer_radius", "m", "R_out (moving ring)").default_value("0.11").greater_than(0);
-  g.integer("cells_r", "radial cells").default_value("8").at_least(2).sweepable();
-  g.integer("cells_theta", "tangential cells").default_value("96").at_least(8).sweepable();
-  g.integer("points_per_cell", "points per cell and direction (each phase)")
-      .default_value("2")
-      .at_least(1)
-      .sweepable();
+  kind::annulus_geometry(s, {"0.08", "0.11", "8", "96", "fixed ring", "moving ring", 2, true});
   s.add(continuum::material_section());
   s.add(continuum::force_chains_section());
   s.add(continuum::collisional_section());
@@ -308,10 +258,7 @@ core::Schema rheometer_schema() {
 
 void check_rheometer(const core::Case& c) {
   check_common(c);
-  if (c.string("numerics.shape") != "linear")
-    c.fail("numerics.shape", "linear (the polar grid has linear shape functions only)");
-  if (!(c.number("geometry.outer_radius") > c.number("geometry.inner_radius")))
-    c.fail("geometry.outer_radius", "a value > geometry.inner_radius");
+  kind::check_annulus(c);
   if (!c.boolean("force_chains.enabled"))
     c.fail("force_chains.enabled", "true (the rheometer needs the skeleton)");
   // The initial solid fraction below the packing limits of the closures, as the REV tests.
@@ -337,13 +284,13 @@ void check_rheometer(const core::Case& c) {
 
 void register_mpm_kinds(core::KindRegistry& registry) {
   registry.add({"mpm", "terzaghi", "Terzaghi consolidation, two-phase double-point MPM",
-                terzaghi_schema(), check_terzaghi, kind::run_terzaghi, "cases/mpm/terzaghi.yaml",
+                terzaghi_schema(), check_box_problem, kind::run_terzaghi, "cases/mpm/terzaghi.yaml",
                 kind::terzaghi_inputs});
   registry.add({"mpm", "couette", "Couette flow of the liquid in an annulus (polar grid)",
                 couette_schema(), check_couette, kind::run_couette, "cases/mpm/couette.yaml",
                 kind::couette_inputs});
   registry.add({"mpm", "elastic_column", "elastic column under gravity, at rest", column_schema(),
-                check_column, kind::run_column, "cases/mpm/elastic_column.yaml",
+                check_box_problem, kind::run_column, "cases/mpm/elastic_column.yaml",
                 kind::column_inputs});
   registry.add({"mpm", "rheometer",
                 "undrained constant-volume annular rheometer with the multi-regime material",

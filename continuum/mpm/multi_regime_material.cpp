@@ -156,7 +156,7 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
             cp, model::collisional_coefficients(cp, st.solid_fraction), st.granular_temperature);
       }
     }
-    // σ' of the solver (tension positive) = -(σ_FC + σ_COL + σ_L)
+    // σ' of the solver (tension positive) = -(σ_FC + σ_COL + σ_L) (docs/model/conventions.md)
     const Eigen::Matrix3d total = parts.total_without_pore_pressure();
     v.sxx[p] = -total(0, 0);
     v.syy[p] = -total(1, 1);
@@ -172,11 +172,11 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
   clamped_updates_ += clamped;
   if (bad >= 0) {
     const std::size_t k = static_cast<std::size_t>(bad - b);
-    throw SolverFailure(-1, fmt::format("solid point {}", bad), "multi_regime stress/T",
-                        v.temperature[bad],
-                        fmt::format("multi-regime update failed (n = {:.4g}, r_c = {:.4g} Pa, "
-                                    "T = {:.4g} m²/s²; ν outside the closures' range, or NaN)",
-                                    v.porosity[bad], r_c_[k], v.temperature[bad]));
+    throw core::NumericalFailure(
+        -1, fmt::format("solid point {}", bad), "multi_regime stress/T", v.temperature[bad],
+        fmt::format("multi-regime update failed (n = {:.4g}, r_c = {:.4g} Pa, "
+                    "T = {:.4g} m²/s²; ν outside the closures' range, or NaN)",
+                    v.porosity[bad], r_c_[k], v.temperature[bad]));
   }
   if (nonlocal_) average_softening(v);
 }
@@ -234,18 +234,6 @@ std::vector<std::pair<std::string, std::vector<double>*>> MultiRegimeMaterial::s
     s.emplace_back("nonlocal_volume", &built_volume_);
   }
   return s;
-}
-
-void register_multi_regime_material(MaterialRegistry& registry,
-                                    const continuum::MultiRegimeSettings& settings) {
-  registry.add("multi_regime", {"effective_pressure", "ocr", "temperature"},
-               [settings](const MaterialParameters& p) {
-                 MultiRegimeInitialState init;
-                 init.effective_pressure = p.at("effective_pressure");
-                 init.ocr = p.at("ocr");
-                 init.granular_temperature = p.at("temperature");
-                 return std::make_unique<MultiRegimeMaterial>(settings, init);
-               });
 }
 
 }  // namespace granflow::mpm

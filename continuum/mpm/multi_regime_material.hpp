@@ -6,7 +6,8 @@
 // and conducted by the solver).
 //
 // Coupling to the double-point solver (docs/rheometer.md):
-//  * the solver's effective stress σ' (tension positive) is -(σ_FC + σ_COL + σ_L): the skeleton,
+//  * signs (docs/model/conventions.md): the model is compression positive, ε̇ = -D; the solver's
+//    effective stress σ' (tension positive) is -(σ_FC + σ_COL + σ_L): the skeleton,
 //    collisional and mixture-viscous parts act on the solid phase; the pore pressure and the
 //    liquid's own η0 viscous stress stay on the liquid points;
 //  * the solid fraction of a point at the start of the step is 1 - n of the solver (V_s / V), so
@@ -101,10 +102,5 @@ class MultiRegimeMaterial final : public SolidMaterial {
   std::vector<double> built_x_, built_y_, built_volume_;
   void average_softening(const StressUpdateView& view);
 };
-
-// Adds "multi_regime" to a registry with the given model settings. Parameters (SI):
-// effective_pressure, ocr, temperature (the initial state of MultiRegimeInitialState).
-void register_multi_regime_material(MaterialRegistry& registry,
-                                    const continuum::MultiRegimeSettings& settings);
 
 }  // namespace granflow::mpm

@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "continuum/mpm/analytic.hpp"
+#include "continuum/mpm/linear_elastic.hpp"
 #include "continuum/mpm/setup.hpp"
-#include "continuum/mpm/solid_material.hpp"
 
 namespace granflow::mpm {
 
@@ -24,7 +24,8 @@ void box_conditions(Solver& s, const CartesianGrid& g, Phase phase) {
 }
 }  // namespace
 
-std::unique_ptr<Solver> make_elastic_column(const ColumnSpec& c) {
+std::unique_ptr<Solver> make_elastic_column(const ColumnSpec& c,
+                                            std::unique_ptr<SolidMaterial> material) {
   const int nx = cells(c.width, c.cell), ny = cells(c.height, c.cell);
   CartesianGrid g(0.0, 0.0, c.cell, c.cell, nx, ny + c.empty_rows);
   SolverOptions o = c.options;
@@ -34,10 +35,9 @@ std::unique_ptr<Solver> make_elastic_column(const ColumnSpec& c) {
     o.gimp_half_length_x = o.gimp_half_length_y = 0.5 * c.cell / c.points_per_cell;
   }
   auto s = std::make_unique<Solver>(g, o);
-  const int mat = s->add_material(
-      default_material_registry().create("linear_elastic", {{"young_modulus", c.young_modulus},
-                                                            {"poisson_ratio", c.poisson_ratio},
-                                                            {"density", c.density}}));
+  if (!material)
+    material = std::make_unique<LinearElastic>(c.young_modulus, c.poisson_ratio, c.density);
+  const int mat = s->add_material(std::move(material));
   add_solid_rectangle(
       *s, {0.0, 0.0, c.width, c.height, nx * c.points_per_cell, ny * c.points_per_cell}, mat, 0.0);
   box_conditions(*s, g, Phase::solid);
@@ -86,7 +86,8 @@ TerzaghiConstants terzaghi_constants(const TerzaghiSpec& t) {
   return k;
 }
 
-std::unique_ptr<Solver> make_terzaghi(const TerzaghiSpec& t) {
+std::unique_ptr<Solver> make_terzaghi(const TerzaghiSpec& t,
+                                      std::unique_ptr<SolidMaterial> material) {
   const int nx = cells(t.width, t.cell), ny = cells(t.height, t.cell);
   CartesianGrid g(0.0, 0.0, t.cell, t.cell, nx, ny + t.empty_rows);
   SolverOptions o = t.options;
@@ -106,10 +107,9 @@ std::unique_ptr<Solver> make_terzaghi(const TerzaghiSpec& t) {
   l.grain_diameter = t.grain_diameter;
   l.darcy_gravity = t.gravity_for_darcy;
   auto s = std::make_unique<Solver>(g, o, l);
-  const int mat = s->add_material(
-      default_material_registry().create("linear_elastic", {{"young_modulus", t.young_modulus},
-                                                            {"poisson_ratio", t.poisson_ratio},
-                                                            {"density", t.grain_density}}));
+  if (!material)
+    material = std::make_unique<LinearElastic>(t.young_modulus, t.poisson_ratio, t.grain_density);
+  const int mat = s->add_material(std::move(material));
   const TerzaghiConstants k = terzaghi_constants(t);
   const Rectangle r{0.0, 0.0, t.width, t.height, nx * t.points_per_cell, ny * t.points_per_cell};
   const double p0 = t.undrained_start ? k.p0 : 0.0;

@@ -17,7 +17,10 @@ struct ColumnSpec {
   double density = 2000.0, young_modulus = 1.0e6, poisson_ratio = 0.3, gravity = 9.81;
   SolverOptions options;
 };
-std::unique_ptr<Solver> make_elastic_column(const ColumnSpec& spec);
+// The solid is `material` (from the case's `solid.material`), or when none is given the linear
+// elastic material of the spec's E, ν and ρ (the exact solution's constants).
+std::unique_ptr<Solver> make_elastic_column(const ColumnSpec& spec,
+                                            std::unique_ptr<SolidMaterial> material = nullptr);
 struct ColumnError {
   double vertical_stress = 0;    // RMS |σ_yy - σ_yy,exact| / (ρ g H) over the points
   double horizontal_stress = 0;  // RMS |σ_xx - σ_xx,exact| / (ρ g H)
@@ -47,7 +50,9 @@ struct TerzaghiSpec {
   bool undrained_start = true;
   SolverOptions options;
 };
-std::unique_ptr<Solver> make_terzaghi(const TerzaghiSpec& spec);
+// The skeleton is `material`, or the linear elastic one of the spec (as make_elastic_column).
+std::unique_ptr<Solver> make_terzaghi(const TerzaghiSpec& spec,
+                                      std::unique_ptr<SolidMaterial> material = nullptr);
 struct TerzaghiConstants {
   double constrained_modulus, p0, cv, final_settlement;
   double hydraulic_conductivity;  // k_D (given, or equivalent to the closure drag)

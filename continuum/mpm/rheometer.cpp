@@ -17,13 +17,12 @@ Rheometer make_rheometer(const RheometerSpec& spec) {
   Rheometer r;
   r.solver = std::make_unique<Solver>(g, spec.options, spec.liquid);
   Solver& s = *r.solver;
-  // The material by name from the registry, as any MPM solid material.
-  MaterialRegistry registry = default_material_registry();
-  register_multi_regime_material(registry, spec.model);
-  auto material = registry.create("multi_regime", {{"effective_pressure", spec.effective_pressure},
-                                                   {"ocr", spec.ocr},
-                                                   {"temperature", spec.initial_temperature}});
-  r.material = dynamic_cast<MultiRegimeMaterial*>(material.get());
+  // The rheometer is the multi-regime model's problem: its material is built from the typed
+  // settings of the case's model sections and the initial state (not a `solid.material` choice).
+  auto material = std::make_unique<MultiRegimeMaterial>(
+      spec.model,
+      MultiRegimeInitialState{spec.effective_pressure, spec.ocr, spec.initial_temperature});
+  r.material = material.get();
   const int mat = s.add_material(std::move(material));
   const double n0 = spec.void_ratio / (1.0 + spec.void_ratio);
   const int ppc = spec.points_per_cell;

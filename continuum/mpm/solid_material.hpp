@@ -1,20 +1,19 @@
 // The interface through which a constitutive model updates the effective stress of solid points.
 // One call per step per material, over a contiguous range of points in SoA form, so the virtual
 // call is paid once per step, never per point. The multi-regime model plugs in here too: it keeps
-// its state variables (e, T, hardening ...) in its own arrays indexed by point - begin.
+// its state variables (e, T, hardening ...) in its own arrays indexed by point - begin. A case
+// selects a material by name (`solid.material`) through material_registry.hpp.
 #pragma once
 
 #include <cstddef>
-#include <functional>
-#include <map>
-#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace granflow::mpm {
 
-// Views of the solid-point arrays a stress update reads and writes (tension-positive stresses).
+// Views of the solid-point arrays a stress update reads and writes (tension-positive stresses,
+// docs/model/conventions.md).
 struct StressUpdateView {
   const double* Lxx;  // velocity gradient ∂v_x/∂x ...
   const double* Lxy;
@@ -60,30 +59,5 @@ class SolidMaterial {
  protected:
   std::size_t begin_ = 0, end_ = 0;
 };
-
-// Parameters of a material as given in the case file (SI, by key).
-using MaterialParameters = std::map<std::string, double>;
-
-// A small registry by name: name -> factory. Built explicitly (no global state).
-class MaterialRegistry {
- public:
-  using Factory = std::function<std::unique_ptr<SolidMaterial>(const MaterialParameters&)>;
-  void add(std::string name, std::vector<std::string> parameter_names, Factory factory);
-  // Throws std::invalid_argument naming the valid materials / the missing parameter.
-  std::unique_ptr<SolidMaterial> create(const std::string& name,
-                                        const MaterialParameters& parameters) const;
-  std::vector<std::string> names() const;
-  const std::vector<std::string>& parameter_names(const std::string& name) const;
-
- private:
-  struct Entry {
-    std::vector<std::string> parameter_names;
-    Factory factory;
-  };
-  std::map<std::string, Entry> entries_;
-};
-
-// Registry with every solid material the MPM knows (linear_elastic for now).
-MaterialRegistry default_material_registry();
 
 }  // namespace granflow::mpm

@@ -17,14 +17,6 @@ namespace granflow::mpm {
 
 using namespace solver_internal;
 
-SolverFailure::SolverFailure(long s, std::string pt, std::string var, double v,
-                             const std::string& why)
-    : std::runtime_error(fmt::format("step {}: {} {} = {}: {}", s, pt, var, v, why)),
-      step(s),
-      point(std::move(pt)),
-      variable(std::move(var)),
-      value(v) {}
-
 Solver::Solver(Grid grid, SolverOptions options, LiquidOptions liquid)
     : grid_(std::move(grid)), options_(options), liquid_options_(liquid) {
   if (options_.shape == ShapeKind::gimp && std::holds_alternative<PolarGrid>(grid_)) {

@@ -20,6 +20,7 @@
 #include "continuum/mpm/material_points.hpp"
 #include "continuum/mpm/polar_grid.hpp"
 #include "continuum/mpm/solid_material.hpp"
+#include "core/numerical_failure.hpp"
 
 namespace granflow::mpm {
 
@@ -79,16 +80,6 @@ struct SolverOptions {
 struct TimeStepLimits {
   double wave = 0, viscous = 0, drag = 0, conduction = 0;
   double critical() const;
-};
-
-// A numerical failure inside the solver, naming step, point and variable.
-class SolverFailure : public std::runtime_error {
- public:
-  SolverFailure(long step, std::string point, std::string variable, double value,
-                const std::string& why);
-  long step;
-  std::string point, variable;
-  double value;
 };
 
 using Grid = std::variant<CartesianGrid, PolarGrid>;

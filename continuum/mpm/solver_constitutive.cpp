@@ -116,7 +116,13 @@ void Solver::constitutive_update(bool move) {
                         solid_.x.data(),
                         solid_.y.data(),
                         solid_.volume.data()};
-  for (auto& m : materials_) m->update_stress(view, dt);
+  try {
+    for (auto& m : materials_) m->update_stress(view, dt);
+  } catch (const core::NumericalFailure& f) {
+    if (f.step >= 0) throw;
+    // A material does not know the step (step -1): it failed in the one being taken.
+    throw core::NumericalFailure(step_ + 1, f.point, f.variable, f.value, f.why);
+  }
   const long ns = static_cast<long>(solid_.size());
   const long nl = static_cast<long>(liquid_.size());
   const double K = liquid_options_.bulk_modulus, rho0 = liquid_options_.density;
@@ -242,12 +248,12 @@ void Solver::constitutive_update(bool move) {
     const bool bad_stress = !std::isfinite(solid_.sxx[p] + solid_.syy[p] + solid_.sxy[p]);
     const char* var = bad_volume ? "volume" : bad_stress ? "stress" : "velocity/position";
     const double val = bad_volume ? solid_.volume[p] : bad_stress ? solid_.sxx[p] : solid_.vx[p];
-    throw SolverFailure(step_ + 1, fmt::format("solid point {}", p), var, val,
-                        "non-finite or non-positive value");
+    throw core::NumericalFailure(step_ + 1, fmt::format("solid point {}", p), var, val,
+                                 "non-finite or non-positive value");
   }
   if (bad_liquid >= 0) {
-    throw SolverFailure(step_ + 1, fmt::format("liquid point {}", bad_liquid), "pressure",
-                        liquid_.pressure[bad_liquid], "non-finite value");
+    throw core::NumericalFailure(step_ + 1, fmt::format("liquid point {}", bad_liquid), "pressure",
+                                 liquid_.pressure[bad_liquid], "non-finite value");
   }
 }
 

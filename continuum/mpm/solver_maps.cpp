@@ -212,13 +212,14 @@ void Solver::lost_point(Phase phase, long index) const {
                                                : static_cast<const PointFields&>(liquid_);
   const double x = p.x[index], y = p.y[index];
   const bool finite = std::isfinite(x) && std::isfinite(y);
-  throw SolverFailure(step_ + 1,
-                      fmt::format("{} point {} at ({}, {})",
-                                  phase == Phase::solid ? "solid" : "liquid", index, x, y),
-                      "position", finite ? x : (std::isfinite(x) ? y : x),
-                      finite ? "left the background grid (lost point)"
-                             : "non-finite position (a NaN/Inf upstream: stress, pressure or "
-                               "velocity)");
+  throw core::NumericalFailure(step_ + 1,
+                               fmt::format("{} point {} at ({}, {})",
+                                           phase == Phase::solid ? "solid" : "liquid", index, x, y),
+                               "position", finite ? x : (std::isfinite(x) ? y : x),
+                               finite
+                                   ? "left the background grid (lost point)"
+                                   : "non-finite position (a NaN/Inf upstream: stress, pressure or "
+                                     "velocity)");
 }
 
 // G2P; with `remap` (MUSL) the updated momentum m v of each point is mapped back to the nodes in

@@ -94,8 +94,9 @@ void Solver::conduct_temperature(const G& grid) {
     }
   }
   if (negative >= 0) {
-    throw SolverFailure(step_ + 1, fmt::format("solid point {}", negative), "temperature",
-                        sp.temperature[negative], "negative or non-finite granular temperature");
+    throw core::NumericalFailure(step_ + 1, fmt::format("solid point {}", negative), "temperature",
+                                 sp.temperature[negative],
+                                 "negative or non-finite granular temperature");
   }
 }
 

@@ -74,8 +74,8 @@ void Solver::update_dt() {
     dt_ = options_.fixed_dt;
   } else {
     if (!std::isfinite(critical)) {
-      throw SolverFailure(step_, "all points", "dt", critical,
-                          "no wave speed to set the time step (give a fixed dt)");
+      throw core::NumericalFailure(step_, "all points", "dt", critical,
+                                   "no wave speed to set the time step (give a fixed dt)");
     }
     dt_ = options_.cfl_factor * critical;
   }

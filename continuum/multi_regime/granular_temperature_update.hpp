@@ -9,7 +9,8 @@
 //   ds/dt = a - c s - b s²,   a = 2 d f2 (D':D') / (3ν),  b = f3 / (3 ν L),
 //                              c = [f1 tr D + 54 ν η0 R_diss / (ρ_p d²)] / (3ν),
 //
-// (tension-positive D: tr D > 0 is expansion, which cools; compaction heats). With a, b, c frozen
+// (tension-positive D = -ε̇: tr D > 0 is expansion, which cools; compaction heats;
+// docs/model/conventions.md). With a, b, c frozen
 // over the step it has the exact solution used below: it stays non-negative and converges to the
 // root s* = (-c + sqrt(c² + 4ab)) / (2b) for any step size, which is what "stable for any time step
 // the mechanics allows" requires (docs/model/multi_regime.md §3). Coefficients are re-evaluated

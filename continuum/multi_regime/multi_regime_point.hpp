@@ -9,7 +9,8 @@
 // (REV drivers, rev/element_test.hpp) the force-chain part therefore unloads as p_COL rises.
 //
 // Sign convention inside granflow's constitutive code: compression-positive stress and strain
-// rate (soil mechanics, docs/model/multi_regime.md §1): tr(ε̇) > 0 is compaction.
+// rate (soil mechanics): tr(ε̇) > 0 is compaction. Every layer's convention and the one
+// conversion (to the MPM) are in docs/model/conventions.md.
 #pragma once
 
 #include <Eigen/Core>

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <optional>
 
-#include "continuum/multi_regime/model_sections.hpp"
+#include "continuum/sections/model_sections.hpp"
 #include "continuum/rev/simple_shear.hpp"
 #include "core/sweep_scheduler.hpp"
 

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "continuum/multi_regime/model_sections.hpp"
+#include "continuum/sections/model_sections.hpp"
 #include "continuum/rev/element_test.hpp"
 #include "continuum/rev/rev_kind.hpp"
 #include "core/interrupt.hpp"

@@ -34,7 +34,8 @@
 // the limits of dem_coupling/fixes/fluid_time_step.hpp (naming the limit).
 //
 // Global vector (f_ID[1..31]; intensive, summed over ranks), stresses in the sign convention of
-// `compute pressure` (P_ab = W_ab / V, compression positive; components xx yy zz xy xz yz, with
+// `compute pressure` (P_ab = W_ab / V, compression positive as docs/model/conventions.md states
+// for the DEM; components xx yy zz xy xz yz, with
 // W_xy = Σ Δx F_y as LIGGGHTS' pair virial):
 //   1-6    P_lub,n   normal lubrication virial / V, Pa
 //   7-12   P_lub,t   tangential lubrication virial / V, Pa

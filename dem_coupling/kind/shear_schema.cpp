@@ -7,7 +7,7 @@
 #include <limits>
 #include <map>
 
-#include "continuum/multi_regime/model_sections.hpp"
+#include "continuum/sections/model_sections.hpp"
 #include "core/file_io.hpp"
 #include "dem_coupling/dem_kind.hpp"
 #include "dem_coupling/kind/dem_fits.hpp"

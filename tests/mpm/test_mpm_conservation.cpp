@@ -125,7 +125,7 @@ TEST(MpmFailures, LostPointAndNonFiniteStressStopWithStepPointAndVariable) {
   try {
     s->run_steps(200);
     FAIL() << "a point that left the grid was not reported";
-  } catch (const SolverFailure& f) {
+  } catch (const granflow::core::NumericalFailure& f) {
     EXPECT_GT(f.step, 0);
     EXPECT_NE(f.point.find("point"), std::string::npos) << f.what();
     EXPECT_EQ(f.variable, "position");
@@ -136,7 +136,7 @@ TEST(MpmFailures, LostPointAndNonFiniteStressStopWithStepPointAndVariable) {
   try {
     t->run_steps(5);
     FAIL() << "a NaN stress was not reported";
-  } catch (const SolverFailure& f) {
+  } catch (const granflow::core::NumericalFailure& f) {
     EXPECT_EQ(f.step, 1);
     EXPECT_NE(f.what(), std::string());
   }

@@ -1,14 +1,20 @@
 // Solid materials: linear elasticity in Jaumann rate form against Hooke's law (oedometric and
-// shear loading), objectivity under a pure rotation, and the registry by name.
+// shear loading), objectivity under a pure rotation, and the registry that `solid.material` of a
+// case reaches.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <stdexcept>
 
 #include "continuum/mpm/linear_elastic.hpp"
+#include "continuum/mpm/material_registry.hpp"
 #include "continuum/mpm/solid_material.hpp"
+#include "core/case.hpp"
+#include "core/kind_registry.hpp"
+#include "core/schema.hpp"
 
 using namespace granflow::mpm;
+namespace core = granflow::core;
 
 namespace {
 struct OnePoint {
@@ -56,22 +62,39 @@ TEST(MpmMaterials, JaumannRateRotatesTheStressWithoutStraining) {
   EXPECT_GT(std::fabs(p.sxy), 10.0);  // it did rotate (sin(0.2) x 100 Pa ≈ 20 Pa)
 }
 
-TEST(MpmMaterials, RegistryCreatesByNameAndNamesWhatIsMissing) {
-  const MaterialRegistry r = default_material_registry();
-  auto m = r.create("linear_elastic",
-                    {{"young_modulus", 1e6}, {"poisson_ratio", 0.2}, {"density", 2000}});
-  EXPECT_EQ(m->name(), "linear_elastic");
-  EXPECT_EQ(m->grain_density(), 2000);
+// The registry is what `solid.material` reaches: its names are the schema's choices, the case's
+// name selects the material, the material reads its own keys (with the problem's defaults), and a
+// name or a default the registry does not know is refused.
+TEST(MpmMaterials, CaseSelectsTheMaterialByNameAndItReadsItsOwnKeys) {
+  const MaterialRegistry r = material_registry();
+  core::Schema schema = core::kind_header("mpm", "material_test", "a solid section only");
+  auto& solid = schema.section("solid", "solid points");
+  r.declare(solid, {{"young_modulus", "2.0e6"}, {"density", "1800"}});
+  const core::Field* material = solid.child("material");
+  ASSERT_NE(material, nullptr);
+  EXPECT_EQ(material->choice_names(), r.names());
+  EXPECT_EQ(material->default_text().value_or(""), r.names().front());
+  const auto c =
+      core::Case::parse("kind: mpm\ntest: material_test\nsolid:\n  poisson_ratio: 0.25\n",
+                        "material.yaml", {}, schema);
+  // The problem's defaults and the case's value reach the typed parameters.
+  const LinearElasticParameters p = read_linear_elastic(c);
+  EXPECT_EQ(p.young_modulus, 2.0e6);
+  EXPECT_EQ(p.poisson_ratio, 0.25);
+  EXPECT_EQ(p.density, 1800.0);
+  auto m = r.create(c);
+  EXPECT_EQ(m->name(), c.string("solid.material"));
+  EXPECT_EQ(m->grain_density(), 1800.0);
+  // λ + 2G = E (1-ν)/((1+ν)(1-2ν)) of those parameters: the material was built from them.
+  EXPECT_DOUBLE_EQ(m->p_wave_modulus(), 2.0e6 * 0.75 / (1.25 * 0.5));
   try {
-    r.create("plastic", {});
+    r.at("plastic");
     FAIL();
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("linear_elastic"), std::string::npos);  // lists names
+    for (const auto& name : r.names())  // lists the valid names
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
   }
-  try {
-    r.create("linear_elastic", {{"young_modulus", 1e6}, {"density", 2000}});
-    FAIL();
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("poisson_ratio"), std::string::npos);
-  }
+  core::Schema bad = core::kind_header("mpm", "material_test", "a typo in a default");
+  EXPECT_THROW(r.declare(bad.section("solid", "solid points"), {{"young_modulu", "1"}}),
+               std::logic_error);
 }

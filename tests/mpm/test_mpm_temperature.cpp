@@ -87,7 +87,7 @@ TEST(MpmTemperature, HotSpotConductsWithoutNegativeTemperature) {
   s.initialize();
   ASSERT_LT(s.dt(), s.limits().conduction);
   const double energy0 = s.solid().mass[hot] * 1.0;
-  ASSERT_NO_THROW(s.run_steps(200));  // no SolverFailure for a negative T
+  ASSERT_NO_THROW(s.run_steps(200));  // no NumericalFailure for a negative T
   double energy = 0, Tmin = 1e30;
   int warmed = 0;
   for (std::size_t p = 0; p < s.solid().size(); ++p) {

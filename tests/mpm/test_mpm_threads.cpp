@@ -223,7 +223,7 @@ TEST(MpmThreads, LostPointIsTheSamePointOnAnyThreadCount) {
     try {
       s->run_steps(2000);
       ADD_FAILURE() << "a point that left the grid was not reported on " << threads << " threads";
-    } catch (const SolverFailure& f) {
+    } catch (const granflow::core::NumericalFailure& f) {
       EXPECT_EQ(f.variable, "position");
       reported[threads - 1] = f.point.substr(0, f.point.find(" at "));  // "solid point N"
       step[threads - 1] = f.step;

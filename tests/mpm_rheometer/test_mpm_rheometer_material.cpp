@@ -89,15 +89,11 @@ TEST(MpmRheometerMaterial, BatchUpdateEqualsThePointModel) {
   EXPECT_EQ(m.state().size(), 10u);  // σ_FC (4), χ (4), r_c, e: checkpointed
 }
 
-TEST(MpmRheometerMaterial, RegistryBuildsItByName) {
-  mpm::MaterialRegistry r = mpm::default_material_registry();
-  mpm::register_multi_regime_material(r, section4_settings());
-  auto m =
-      r.create("multi_regime", {{"effective_pressure", 50e3}, {"ocr", 1.0}, {"temperature", 0}});
-  EXPECT_EQ(m->name(), "multi_regime");
-  EXPECT_DOUBLE_EQ(m->grain_density(), 2650.0);
-  EXPECT_GT(m->p_wave_modulus(), 1e6);  // skeleton at 50 kPa: K ≈ 28 MPa
-  EXPECT_THROW(r.create("multi_regime", {{"ocr", 1.0}}), std::invalid_argument);
+TEST(MpmRheometerMaterial, BuiltFromTypedSettingsAndInitialState) {
+  mpm::MultiRegimeMaterial m(section4_settings(), mpm::MultiRegimeInitialState{50e3, 1.0, 0.0});
+  EXPECT_EQ(m.name(), "multi_regime");
+  EXPECT_DOUBLE_EQ(m.grain_density(), 2650.0);
+  EXPECT_GT(m.p_wave_modulus(), 1e6);  // skeleton at 50 kPa: K ≈ 28 MPa
 }
 
 // Checkpoint/restart with the multi-regime material: its state arrays (σ_FC, χ, r_c, e) and T go

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <string>
 
-#include "continuum/multi_regime/model_sections.hpp"
+#include "continuum/sections/model_sections.hpp"
 #include "continuum/rev/element_test.hpp"
 #include "continuum/rev/rev_kind.hpp"
 #include "core/case.hpp"

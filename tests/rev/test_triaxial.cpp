@@ -8,7 +8,7 @@
 #include <cmath>
 #include <string>
 
-#include "continuum/multi_regime/model_sections.hpp"
+#include "continuum/sections/model_sections.hpp"
 #include "continuum/rev/element_test.hpp"
 #include "continuum/rev/rev_kind.hpp"
 #include "continuum/rev/simple_shear.hpp"

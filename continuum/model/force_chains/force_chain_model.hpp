@@ -3,7 +3,8 @@
 //
 // SIGN CONVENTION: everything in this folder is COMPRESSION-POSITIVE (soil mechanics): stress
 // σ > 0 in compression, strain increments > 0 in shortening, p = tr(σ)/3, ε_v = tr(ε). Convert
-// at the boundary (σ_tension-positive = -σ, dε_tension-positive = -dε).
+// at the boundary (σ_tension-positive = -σ, dε_tension-positive = -dε); every layer's convention
+// is in docs/model/conventions.md.
 //
 // Ingredients: closed yield locus of di Prisco et al. (1993) of size r_c and axis χ; pressure-
 // dependent elasticity; Lade-Duncan critical state as attractor; state-dependent, Lode-angle-

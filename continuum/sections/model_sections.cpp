@@ -1,4 +1,4 @@
-#include "continuum/multi_regime/model_sections.hpp"
+#include "continuum/sections/model_sections.hpp"
 
 #include <fmt/format.h>
 
