@@ -13,6 +13,9 @@
 #ifdef GRANFLOW_HAVE_PAIR_KIND
 #include "analysis/pair/pair_kind.hpp"
 #endif
+#ifdef GRANFLOW_HAVE_TRANSIENT_PAIR_KIND
+#include "analysis/transient_pair/transient_pair_kind.hpp"
+#endif
 
 namespace granflow::app {
 
@@ -30,6 +33,9 @@ core::KindRegistry make_registry() {
 #endif
 #ifdef GRANFLOW_HAVE_PAIR_KIND
   pair::register_pair_kinds(registry);
+#endif
+#ifdef GRANFLOW_HAVE_TRANSIENT_PAIR_KIND
+  transient_pair::register_transient_pair_kinds(registry);
 #endif
   return registry;
 }

@@ -1,0 +1,57 @@
+#!/usr/bin/env python3
+"""PNG plot of a `kind: transient_pair` run (docs/transient_pairs.md): the undrained shear from
+rest in the DEM (seed mean and band, lowest to highest seed, from dem/result.h5
+/transient/group_G) and in the continuum (the REV's steps, /transient_pair/group_G of
+result.h5), p'(gamma)/p0 and tau(gamma)/p0, one colour per condition; the liquefaction threshold
+f p0 dotted. Usage: plot_transient_pair.py RUN_DIR  ->  RUN_DIR/transient_pair.png"""
+import os
+import sys
+
+import h5py
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def main(run):
+    with h5py.File(os.path.join(run, "result.h5"), "r") as f_cont, \
+            h5py.File(os.path.join(run, "dem", "result.h5"), "r") as f_dem:
+        names = sorted(f_cont["transient_pair"].keys(), key=lambda n: int(n.split("_")[-1]))
+        fig, (ax_p, ax_t) = plt.subplots(1, 2, figsize=(11, 4.2))
+        for k, name in enumerate(names):
+            cont, dem = f_cont["transient_pair"][name], f_dem["transient"][name]
+            p0 = float(cont.attrs["p0"])
+            color = "C{}".format(k)
+            label = "phi0 {:.3f}, gamma_dot {:g} 1/s".format(float(cont.attrs["phi0"]),
+                                                              float(cont.attrs["shear_rate"]))
+            s_dem = np.asarray(dem["strain"])
+            for ax, q in ((ax_p, "p"), (ax_t, "tau")):
+                ax.fill_between(s_dem, np.asarray(dem[q + "_min"]) / p0,
+                                np.asarray(dem[q + "_max"]) / p0, color=color, alpha=0.2, lw=0)
+                ax.plot(s_dem, np.asarray(dem[q + "_mean"]) / p0, color=color, lw=1.2,
+                        label="DEM " + label)
+                ax.plot(np.asarray(cont["strain"]), np.asarray(cont[q]) / p0, color=color,
+                        lw=1.6, ls="--", label="continuum " + label)
+            ax_p.axhline(float(cont.attrs["liquefaction_fraction"]), color="k", ls=":", lw=1)
+    ax_p.set_yscale("log")
+    ax_p.set_ylabel("p' / p0   (mean stress)")
+    ax_t.set_ylabel("tau / p0")
+    for ax in (ax_p, ax_t):
+        ax.set_xlabel("shear strain gamma")
+        ax.grid(alpha=0.3)
+    ax_t.legend(fontsize=7)
+    ax_p.text(0.98, 0.02, "band: lowest to highest DEM seed; dotted: liquefaction threshold",
+              transform=ax_p.transAxes, ha="right", va="bottom", fontsize=7)
+    fig.suptitle("undrained shear from rest: DEM (solid, band) and continuum (dashed)")
+    fig.tight_layout()
+    target = os.path.join(run, "transient_pair.png")
+    fig.savefig(target, dpi=120)
+    print("wrote " + target)
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    main(sys.argv[1])

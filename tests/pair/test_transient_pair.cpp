@@ -1,0 +1,148 @@
+// kind: transient_pair end to end: a 250-sphere loose packing prepared at p0 = 100 Pa with the
+// shearing friction (kind: dem_prepare), then sheared undrained from rest in the DEM and in the
+// REV from the same φ0, p0 and γ̇ (I0 = 0.01) over 0.3 strain (~20-40 s in all).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "analysis/calibration/steady_shear_model.hpp"
+#include "analysis/transient_pair/transient_pair_kind.hpp"
+#include "continuum/sections/model_sections.hpp"
+#include "core/kind_registry.hpp"
+#include "core/result_file.hpp"
+#include "dem_coupling/dem_kind.hpp"
+
+namespace granflow::transient_pair {
+namespace {
+
+const char* preparation = R"(kind: dem_prepare
+name: prep
+material:
+  diameter: 1.0e-3
+  particle_density: 2500
+  restitution: 0.7
+  youngs_modulus: 1.0e7
+  poisson_ratio: 0.3
+dem:
+  particles: 250
+preparation:
+  pressure: 100
+  friction: 0.5
+)";
+
+// The critical state line of cases/rev/materials/dem_spheres_force_chains.yaml (the steady
+// calibration's, as are the elastic and fluidization keys below): e_cs(p) = e_Γ − λ_c (p/p_ref)^ξ_c with ξ_c = 1.
+constexpr double e_gamma = 1.07, lambda_c = 0.43, p_ref = 100.0;
+
+std::string pair_case(const std::filesystem::path& prepared) {
+  return fmt::format(R"(kind: transient_pair
+name: tiny
+material:
+  diameter: 1.0e-3
+  particle_density: 2500
+  restitution: 0.7
+  particle_friction: 0.5
+  youngs_modulus: 1.0e7
+  poisson_ratio: 0.3
+collisional:
+  jamming_fraction: 0.59
+  radial_distribution: torquato
+force_chains:
+  bulk_modulus_ref: 2.0e5
+  reference_pressure: 100.0
+  elastic_exponent: 0.333333
+  M_c: 0.75
+  e_Gamma: {}
+  lambda_c: {}
+  xi_c: 1.0
+  atmospheric_pressure: {}
+  e_min: 0.45
+  e_max: 1.2
+  pressure_floor: 1.0
+  fluidization_size: 2.0
+  resolidification_size: 4.0
+  regrowth_modulus: 4.0e3
+  regrowth_temperature: 1.0e-6
+start:
+  preparation: {}
+control:
+  mode: constant_volume
+shear_rate: 2
+strain:
+  total: 0.3
+  sample: 0.002
+)",
+                     e_gamma, lambda_c, p_ref, prepared.string());
+}
+
+TEST(TransientPair, LoosePackingInTheDemAndTheContinuum) {
+  const auto dir = std::filesystem::path(GRANFLOW_BINARY_DIR) / "test_transient_pair";
+  std::filesystem::remove_all(dir);
+  core::KindRegistry registry;
+  dem::register_dem_kinds(registry);
+  const auto& prepare = registry.find("dem_prepare", "", "prep.yaml");
+  {
+    const auto c = core::Case::parse(preparation, "prep.yaml", {}, prepare.schema);
+    core::RunContext ctx(c, dir / "prep", true, true);
+    ASSERT_EQ(prepare.run(ctx), core::exit_ok);
+    ctx.finish();
+  }
+  const auto schema = transient_pair_schema();
+  const auto c = core::Case::parse(pair_case(dir / "prep"), "tiny.yaml", {}, schema);
+  check_transient_pair_case(c);
+  {
+    core::RunContext ctx(c, dir / "run", true, true);
+    ASSERT_EQ(run_transient_pair_case(ctx), core::exit_ok);
+    ctx.finish();
+  }
+  const auto s = core::Summary::read(dir / "run" / "summary.json");
+  const auto prep = core::Summary::read(dir / "prep" / "summary.json");
+  // Both sides start from the prepared state.
+  EXPECT_DOUBLE_EQ(s.get("transient_pair.phi0"), prep.get("prepared.phi"));
+  EXPECT_DOUBLE_EQ(s.get("transient_pair.p0"), prep.get("prepared.p"));
+  const auto h5 = dir / "run" / "result.h5";
+  const auto p = core::read_dataset(h5, "/transient_pair/group_0/p");
+  const auto tau = core::read_dataset(h5, "/transient_pair/group_0/tau");
+  const auto sigma_yy = core::read_dataset(h5, "/transient_pair/group_0/sigma_yy");
+  const auto strain = core::read_dataset(h5, "/transient_pair/group_0/strain");
+  ASSERT_GT(p.size(), 100u);
+  EXPECT_NEAR(strain.back(), 0.3, 1e-3);  // run through the DEM's strain, no steady stop
+  // At constant volume the skeleton ends on its critical state at the imposed void ratio e0:
+  // p' = p_ref (e_Γ − e0)/λ_c (the closed form of the line) and τ/σ_yy = μ_FC, the Lade-Duncan
+  // critical stress ratio in simple shear (calibration::critical_state_friction). Within 1 %:
+  // p also holds p_COL, which at the REV's T (~1e-6 m²/s²) is < 0.5 % of p' here, and the
+  // exponential approach (decay strain ~0.05 at this ψ) is complete to < 1e-3 by γ = 0.3.
+  const double e0 = 1.0 / s.get("transient_pair.phi0") - 1.0;
+  const double p_cs = p_ref * (e_gamma - e0) / lambda_c;
+  EXPECT_NEAR(p.back() / p_cs, 1.0, 0.01) << "p_cs(e0) = " << p_cs;
+  const auto settings = continuum::read_multi_regime_settings(c);
+  EXPECT_NEAR(tau.back() / sigma_yy.back() /
+                  calibration::critical_state_friction(settings.force_chain_parameters),
+              1.0, 0.01);
+  // The continuum liquefies only if its critical state at e0 lies below 5 % of p0.
+  EXPECT_EQ(s.get("transient_pair.liquefied_cont"), p_cs < 0.05 * s.get("transient_pair.p0"));
+  // The DEM's loose packing (φ0 ≈ 0.57 < φ_c ≈ 0.585 at μ_p = 0.5) does liquefy, and the pair
+  // reports the DEM run's own verdict.
+  const auto dem = core::Summary::read(dir / "run" / "dem" / "summary.json");
+  EXPECT_EQ(s.get("transient_pair.liquefied_dem"), dem.get("transient.liquefied"));
+  EXPECT_EQ(s.get("transient_pair.liquefied_dem"), 1.0);
+  EXPECT_DOUBLE_EQ(s.get("transient_pair.peak_tau_dem"), dem.get("transient.peak_tau"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "run" / "transient_pair.png"));
+}
+
+TEST(TransientPair, NeedsAPreparationAndConstantVolume) {
+  const auto schema = transient_pair_schema();
+  auto text = pair_case("somewhere");
+  const auto c = core::Case::parse(text, "tiny.yaml", {"control.mode=constant_pressure"}, schema);
+  try {
+    check_transient_pair_case(c);
+    FAIL() << "constant_pressure accepted";
+  } catch (const core::CaseError& e) {
+    EXPECT_NE(std::string(e.what()).find("control.mode"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace granflow::transient_pair
