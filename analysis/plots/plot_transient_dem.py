@@ -22,15 +22,17 @@ def groups(run_dir):
         if "transient" not in f:
             return []
         out = []
-        for name in sorted(f["transient"].keys()):
+        names = sorted(f["transient"].keys())
+        for name in names:
             g = f["transient"][name]
             d = {k: np.asarray(g[k]) for k in g.keys()}
             d["p0"] = float(g.attrs["mean_p0"])
             d["phi0"] = float(g.attrs["mean_phi0"])
             d["fraction"] = float(g.attrs["liquefaction_fraction"])
             d["seeds"] = int(g.attrs["seeds"])
-            d["label"] = "{} {} (phi0 {:.3f}, {} seed{})".format(
-                os.path.basename(os.path.normpath(run_dir)), name, d["phi0"], d["seeds"],
+            d["label"] = "{}{} (phi0 {:.3f}, {} seed{})".format(
+                os.path.basename(os.path.normpath(run_dir)),
+                " " + name if len(names) > 1 else "", d["phi0"], d["seeds"],
                 "s" if d["seeds"] > 1 else "")
             out.append(d)
         return out
