@@ -136,6 +136,7 @@ double stress_average_entry(void* handle, int k) {
 // stress split into contact, lubrication, drag and kinetic parts, appended to each series row.
 struct FluidStress {
   double contact = 0, lubrication = 0, drag = 0, kinetic = 0, lubricated_pairs = 0;
+  double pressure = 0;  // hydrodynamic part of tr(P)/3: lubrication (normal + tangential) + drag
 };
 
 // Entry `offset` (0-based, dem::fluid_le_vector; f_gf_fluid[offset + 1] in a deck) of the fix's
@@ -162,6 +163,11 @@ FluidStress fluid_stress(void* handle, const ShearSample& s, int rank) {
   f.kinetic = -s.kinetic_stress[3];
   f.contact = -s.virial_stress[3] - f.lubrication - f.drag;
   f.lubricated_pairs = fluid_entry(handle, v::lubricated_pairs, rank);
+  for (int k = 0; k < 3; ++k)  // xx yy zz: the effective (solid) p' = p - pressure
+    f.pressure += (fluid_entry(handle, v::lubrication_normal + k, rank) +
+                   fluid_entry(handle, v::lubrication_tangential + k, rank) +
+                   fluid_entry(handle, v::drag + k, rank)) /
+                  3.0;
   return f;
 }
 
@@ -174,7 +180,7 @@ void write_series_header(std::FILE* f, bool wet) {
                "sigma_yy\ttau\tp\tmu\tT\tphi\te\tI\tZ\td_mean\t"
                "momentum_x\tmomentum_y\tmomentum_z\tparticles\tprofile_deviation\toverlap\t"
                "Z_nr\tnonrattler_fraction\tfabric_xy\tanisotropy");
-  if (wet) std::fprintf(f, "\ttau_contact\ttau_lub\ttau_drag\ttau_kin\tlubricated_pairs");
+  if (wet) std::fprintf(f, "\ttau_contact\ttau_lub\ttau_drag\ttau_kin\tlubricated_pairs\tp_fluid");
   std::fputc('\n', f);
 }
 
@@ -194,8 +200,9 @@ void write_series_row(std::FILE* f, const ShearSample& s, double overlap,
   std::fprintf(f, "\t%.10g\t%.10g\t%.10g\t%.10g", network.coordination_nonrattler,
                network.nonrattler_fraction, network.fabric[3], network.anisotropy);
   if (fluid)
-    std::fprintf(f, "\t%.17g\t%.17g\t%.17g\t%.17g\t%.0f", fluid->contact, fluid->lubrication,
-                 fluid->drag, fluid->kinetic, fluid->lubricated_pairs);
+    std::fprintf(f, "\t%.17g\t%.17g\t%.17g\t%.17g\t%.0f\t%.17g", fluid->contact,
+                 fluid->lubrication, fluid->drag, fluid->kinetic, fluid->lubricated_pairs,
+                 fluid->pressure);
   std::fputc('\n', f);
   std::fflush(f);
 }

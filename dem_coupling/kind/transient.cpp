@@ -145,10 +145,17 @@ void TransientShear::absorb(core::RunContext& ctx, std::size_t n, const std::fil
   };
   for (const auto& [column, name, unit, doc] : network)
     ctx.result.write(group + "/series/" + name, t.at(column), unit, doc);
+  if (t.columns.count("p_fluid"))
+    ctx.result.write(group + "/series/fluid_pressure", t.at("p_fluid"), "Pa",
+                     "hydrodynamic (lubrication + drag) part of tr(P)/3; p' = p - this");
   const PreparedState s = read_prepared_state(ctx.run_case, long(p.seed));
   Point& point = points_[n];
   point.strain = t.at("strain");
+  // Immersed runs: p' is the effective (solid) mean stress, the hydrodynamic part of the virial
+  // (lubrication + drag, series column p_fluid) taken out; dry runs: p.
   point.p = t.at("p");
+  if (t.columns.count("p_fluid"))
+    for (std::size_t i = 0; i < point.p.size(); ++i) point.p[i] -= t.at("p_fluid")[i];
   point.sigma_yy = t.at("sigma_yy");
   point.tau = t.at("tau");
   point.z_nr = t.at("Z_nr");
