@@ -2,8 +2,9 @@
 """PNG plot of a `kind: transient_pair` run (docs/transient_pairs.md): the undrained shear from
 rest in the DEM (seed mean and band, lowest to highest seed, from dem/result.h5
 /transient/group_G) and in the continuum (the REV's steps, /transient_pair/group_G of
-result.h5), p'(gamma)/p0 and tau(gamma)/p0, one colour per condition; the liquefaction threshold
-f p0 dotted. Usage: plot_transient_pair.py RUN_DIR  ->  RUN_DIR/transient_pair.png"""
+result.h5), p'(gamma)/p0 and tau(gamma)/p0, one colour per condition, the continuum with
+fitted force-chain parameters (calibrate section) dotted; the liquefaction threshold f p0 dotted
+black. Usage: plot_transient_pair.py RUN_DIR  ->  RUN_DIR/transient_pair.png"""
 import os
 import sys
 
@@ -34,6 +35,9 @@ def main(run):
                         label="DEM " + label)
                 ax.plot(np.asarray(cont["strain"]), np.asarray(cont[q]) / p0, color=color,
                         lw=1.6, ls="--", label="continuum " + label)
+                if q + "_cal" in cont:  # the continuum with the fitted force-chain parameters
+                    ax.plot(np.asarray(cont["strain_cal"]), np.asarray(cont[q + "_cal"]) / p0,
+                            color=color, lw=1.6, ls=":", label="calibrated continuum " + label)
             ax_p.axhline(float(cont.attrs["liquefaction_fraction"]), color="k", ls=":", lw=1)
     ax_p.set_yscale("log")
     ax_p.set_ylabel("p' / p0   (mean stress)")
@@ -44,7 +48,7 @@ def main(run):
     ax_t.legend(fontsize=7)
     ax_p.text(0.98, 0.02, "band: lowest to highest DEM seed; dotted: liquefaction threshold",
               transform=ax_p.transAxes, ha="right", va="bottom", fontsize=7)
-    fig.suptitle("undrained shear from rest: DEM (solid, band) and continuum (dashed)")
+    fig.suptitle("undrained shear from rest: DEM (solid, band), continuum (dashed), calibrated (dotted)")
     fig.tight_layout()
     target = os.path.join(run, "transient_pair.png")
     fig.savefig(target, dpi=120)

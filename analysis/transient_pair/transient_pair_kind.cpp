@@ -5,9 +5,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
+#include <sstream>
 
-#include "continuum/rev/simple_shear.hpp"
+#include "analysis/transient_pair/continuum_transient.hpp"
 #include "continuum/sections/model_sections.hpp"
 #include "core/interrupt.hpp"
 #include "core/numerical_failure.hpp"
@@ -21,7 +23,7 @@ namespace granflow::transient_pair {
 namespace {
 
 // Sections of a transient pair case that only the continuum reads.
-constexpr const char* continuum_sections[] = {"collisional", "force_chains", "continuum"};
+constexpr const char* continuum_sections[] = {"collisional", "force_chains", "continuum", "calibrate"};
 
 // The DEM case of a transient pair case: the same file without the continuum-only sections,
 // kind: dem. `schema` must outlive the returned Case (it refers to it).
@@ -39,33 +41,99 @@ const core::KindEntry& dem_entry(core::KindRegistry& registry, const core::Case&
   return registry.find("dem", "", c.origin());
 }
 
-// The continuum's undrained shear of one condition from (φ0, p0): rev::run_simple_shear at
-// constant volume, the skeleton isotropic at p'0 = p0 on its yield locus (r_c = √3 p'0), T0 a
-// small fraction of (d γ̇)² (the DEM starts at rest), run through the DEM's strain (no steady
-// stop: steady_tolerance 0).
-// Throws core::NumericalFailure (step, variable); `result` then holds the series so far.
-void continuum_transient(const core::Case& condition, double phi0, double p0,
-                         rev::SimpleShearResult& result) {
-  const continuum::MultiRegimeSettings settings =
-      continuum::read_multi_regime_settings(condition);
-  rev::SimpleShearControl control;
-  control.control = rev::ShearControl::constant_volume;
-  control.shear_rate = condition.number("shear_rate");
-  control.void_ratio = 1.0 / phi0 - 1.0;
-  control.effective_pressure = p0;
-  control.overconsolidation = 1.0;
-  const double d = condition.number("material.diameter");
-  control.initial_temperature =
-      condition.number("continuum.initial_temperature") * std::pow(d * control.shear_rate, 2);
-  control.strain_increment = condition.number("continuum.strain_increment");
-  control.max_strain = condition.number("strain.total");
-  control.steady_tolerance = 0.0;
-  control.max_steps = std::numeric_limits<long>::max() / 2;
-  rev::run_simple_shear(continuum::MultiRegimePoint(settings), control, result);
-}
-
 double relative_error(double model, double data) {
   return data != 0.0 ? model / data - 1.0 : std::numeric_limits<double>::quiet_NaN();
+}
+
+// "a b c" -> {"a", "b", "c"}; "none" alone -> {}.
+std::vector<std::string> parameter_names(const core::Case& c) {
+  std::vector<std::string> out;
+  std::istringstream in(c.string("calibrate.parameters"));
+  for (std::string w; in >> w;)
+    if (w != "none") out.push_back(w);
+  return out;
+}
+
+struct Thresholds {
+  double liquefaction, residual;  // transient.liquefaction_fraction, transient.residual_fraction
+};
+
+// The continuum's undrained shear of one condition beside the DEM's: series under
+// group/{p,sigma_yy,tau,...}{suffix}, metrics of both sides under key. False (after logging and
+// writing the series so far) when the continuum stopped on a numerical failure.
+bool compare(core::RunContext& ctx, const core::Case& condition, const DemTransient& dem,
+             double dem_band_err, const Thresholds& limits, const std::string& group,
+             const std::string& key, const std::string& suffix, std::size_t index) {
+  rev::SimpleShearResult rev;
+  bool failed = false;
+  try {
+    continuum_transient(condition, dem.phi0, dem.p0, rev);
+  } catch (const core::NumericalFailure& e) {
+    ctx.log->error("condition {}: the continuum's undrained shear stopped: {}", index, e.what());
+    failed = true;  // the series so far are written below
+  }
+  const auto& s = rev.series;
+  const std::string model =
+      suffix.empty() ? "continuum" : "continuum with the fitted force-chain parameters";
+  ctx.result.write(group + "/strain" + suffix, s.strain, "1", "shear strain of the " + model);
+  ctx.result.write(group + "/p" + suffix, s.pressure, "Pa",
+                   model + ": mean stress p' = p_COL + tr(σ_FC)/3 (the DEM's tr(P)/3)");
+  ctx.result.write(group + "/sigma_yy" + suffix, s.normal_stress, "Pa", model + ": σ_yy");
+  ctx.result.write(group + "/tau" + suffix, s.shear_stress, "Pa", model + ": shear stress τ");
+  ctx.result.write(group + "/tau_force_chains" + suffix, s.force_chain_shear_stress, "Pa",
+                   model + ": τ carried by the force chains");
+  ctx.result.write(group + "/granular_temperature" + suffix, s.granular_temperature, "m^2/s^2",
+                   model + ": granular temperature T");
+  if (failed) {
+    ctx.result.flush();
+    return false;
+  }
+  const auto dem_m = dem::transient_metrics(dem.strain, dem.p_mean, dem.tau_mean, dem.p0,
+                                            limits.liquefaction, limits.residual);
+  const auto cont_m = dem::transient_metrics(s.strain, s.pressure, s.shear_stress, dem.p0,
+                                             limits.liquefaction, limits.residual);
+  auto& sum = ctx.summary;
+  const std::pair<const char*, std::pair<double, double>> metrics[] = {
+      {"peak_tau", {dem_m.peak_tau, cont_m.peak_tau}},
+      {"peak_strain", {dem_m.peak_strain, cont_m.peak_strain}},
+      {"residual_tau", {dem_m.residual_tau, cont_m.residual_tau}},
+      {"residual_p", {dem_m.residual_p, cont_m.residual_p}},
+  };
+  for (const auto& [name, values] : metrics) {
+    sum.set(key + name + "_dem", values.first);
+    sum.set(key + name + "_cont" + suffix, values.second);
+    ctx.result.attribute(group, std::string(name) + "_dem", values.first);
+    ctx.result.attribute(group, std::string(name) + "_cont" + suffix, values.second);
+  }
+  sum.set(key + "rel_err_peak_tau" + suffix, relative_error(cont_m.peak_tau, dem_m.peak_tau));
+  const bool liq_dem = dem_m.liquefaction_strain >= 0, liq_cont = cont_m.liquefaction_strain >= 0;
+  sum.set(key + "liquefied_dem", liq_dem ? 1 : 0);
+  sum.set(key + "liquefied_cont" + suffix, liq_cont ? 1 : 0);
+  ctx.result.attribute(group, "liquefied_dem", liq_dem ? 1.0 : 0.0);
+  ctx.result.attribute(group, "liquefied_cont" + suffix, liq_cont ? 1.0 : 0.0);
+  if (liq_dem) sum.set(key + "liquefaction_strain_dem", dem_m.liquefaction_strain);
+  if (liq_cont) sum.set(key + "liquefaction_strain_cont" + suffix, cont_m.liquefaction_strain);
+  if (liq_dem && liq_cont)
+    sum.set(key + "rel_err_liquefaction_strain" + suffix,
+            relative_error(cont_m.liquefaction_strain, dem_m.liquefaction_strain));
+  // The residual τ against the DEM's seed band: its seed mean ± 2 standard errors (between
+  // seeds, the DEM's err_residual_tau) or ± 2 batch-means errors of the mean series' tail.
+  const double band_err = std::max(dem_m.residual_tau_err, dem_band_err);
+  const bool within = std::abs(cont_m.residual_tau - dem_m.residual_tau) <= 2.0 * band_err;
+  sum.set(key + "residual_tau_dem_err", band_err);
+  sum.set(key + "residual_tau_within_band" + suffix, within ? 1 : 0);
+  ctx.log->info(
+      "condition {}{} (φ0 = {:.4f}, p0 = {:.4g} Pa, γ̇ = {:g} 1/s): peak τ DEM {:.4g} Pa at γ = "
+      "{:.3g}, continuum {:.4g} Pa at {:.3g} ({:+.1f} %); liquefied: DEM {}, continuum {}; "
+      "residual τ DEM {:.4g} ± {:.2g} Pa, continuum {:.4g} Pa{}",
+      index, suffix.empty() ? "" : " calibrated", dem.phi0, dem.p0,
+      condition.number("shear_rate"), dem_m.peak_tau, dem_m.peak_strain, cont_m.peak_tau,
+      cont_m.peak_strain, 100.0 * relative_error(cont_m.peak_tau, dem_m.peak_tau),
+      liq_dem ? fmt::format("at γ = {:.3g}", dem_m.liquefaction_strain) : std::string("no"),
+      liq_cont ? fmt::format("at γ = {:.3g}", cont_m.liquefaction_strain) : std::string("no"),
+      dem_m.residual_tau, 2.0 * band_err, cont_m.residual_tau,
+      within ? " (within the DEM band)" : "");
+  return true;
 }
 
 }  // namespace
@@ -91,6 +159,13 @@ core::Schema transient_pair_schema() {
               "T0 / (d γ̇)² of the REV (the DEM starts at rest; kinetic theory needs T > 0)")
       .default_value("1.0e-4")
       .greater_than(0);
+  auto& cal = s.section("calibrate",
+                        "optional: fit force-chain parameters to the DEM transient of one "
+                        "condition (the others held out) and show the calibrated continuum");
+  cal.string("parameters",
+             "force_chains keys to fit (e.g. xi_psi beta_f), separated by spaces; none: no fit")
+      .default_value("none");
+  cal.integer("condition", "the condition (in sweep order) fitted").default_value("0").at_least(0);
   return s;
 }
 
@@ -102,6 +177,21 @@ void check_transient_pair_case(const core::Case& c) {
     c.fail("control.mode", "constant_volume (the undrained test)");
   if (!c.boolean("collisional.enabled"))
     c.fail("collisional.enabled", "true (the continuum side carries T and the collisions)");
+  const auto names = parameter_names(c);
+  if (!names.empty()) {
+    if (!c.boolean("force_chains.enabled"))
+      c.fail("calibrate.parameters", "no fit without the force chains (force_chains.enabled)");
+    const std::size_t count = c.expand_sweep().size();
+    if (std::size_t(c.integer("calibrate.condition")) >= count)
+      c.fail("calibrate.condition", fmt::format("a condition index below {}", count));
+    for (const auto& name : names) try {
+        if (!(c.number("force_chains." + name) > 0)) throw std::logic_error("not positive");
+      } catch (const std::logic_error&) {  // no such number key (Case::number), or <= 0
+        c.fail("calibrate.parameters",
+               fmt::format("positive numeric force_chains keys (docs/cases.md); '{}' is not one",
+                           name));
+      }
+  }
   core::KindRegistry registry;
   const auto& entry = dem_entry(registry, c);
   const core::Case d = dem_part(c, entry.schema);
@@ -147,96 +237,74 @@ int run_transient_pair_case(core::RunContext& ctx) {
     return code;
   }
 
-  // ---- continuum side, condition by condition (the DEM's /transient/group_G, in sweep order)
   const auto h5 = dem_dir / "result.h5";
-  const double fraction = c.number("transient.liquefaction_fraction");
-  const double residual = c.number("transient.residual_fraction");
   const std::vector<core::Case> conditions = c.expand_sweep();
-  auto& sum = ctx.summary;
+  std::vector<DemTransient> dem_side;
   for (std::size_t g = 0; g < conditions.size(); ++g) {
-    const std::string dem_group = fmt::format("/transient/group_{}", g);
-    const std::string group = fmt::format("/transient_pair/group_{}", g);
+    const std::string group = fmt::format("/transient/group_{}", g);
+    DemTransient t;
+    t.phi0 = core::read_number_attribute(h5, group, "mean_phi0");
+    t.p0 = core::read_number_attribute(h5, group, "mean_p0");
+    t.strain = core::read_dataset(h5, group + "/strain");
+    for (auto [member, name] :
+         {std::pair{&DemTransient::p_mean, "p_mean"}, {&DemTransient::p_min, "p_min"},
+          {&DemTransient::p_max, "p_max"}, {&DemTransient::tau_mean, "tau_mean"},
+          {&DemTransient::tau_min, "tau_min"}, {&DemTransient::tau_max, "tau_max"}})
+      t.*member = core::read_dataset(h5, group + "/" + name);
+    dem_side.push_back(std::move(t));
+  }
+
+  // ---- optional fit of force-chain parameters on one condition's DEM transient
+  const std::vector<std::string> fit_names = parameter_names(c);
+  const auto schema = transient_pair_schema();
+  const std::size_t fitted = std::size_t(c.integer("calibrate.condition"));
+  std::vector<double> estimate;
+  auto& sum = ctx.summary;
+  if (!fit_names.empty()) {
+    log.info("fitting force_chains.{{{}}} to the DEM transient of condition {} ...",
+             fmt::join(fit_names, ", "), fitted);
+    const auto fit = fit_force_chains(conditions[fitted], schema, fit_names, dem_side[fitted]);
+    estimate = fit.estimate;
+    for (std::size_t j = 0; j < fit_names.size(); ++j) {
+      log.info("  {} = {:.6g} ± {:.3g} (start {:.6g}){}", fit_names[j], fit.estimate[j],
+               fit.standard_error[j], fit.start[j], fit.at_bound[j] ? " (on its bound)" : "");
+      sum.set("transient_pair.fit." + fit_names[j], fit.estimate[j]);
+      sum.set("transient_pair.fit." + fit_names[j] + "_err", fit.standard_error[j]);
+      sum.set("transient_pair.fit." + fit_names[j] + "_start", fit.start[j]);
+    }
+    log.info("  χ²_red {:.4g} (start {:.4g}), {} REV runs{}", fit.chi2_red,
+             fit.chi2_initial / std::max(1, fit.points - int(fit_names.size())), fit.evaluations,
+             fit.converged ? "" : ", not converged");
+    sum.set("transient_pair.fit.chi2_red", fit.chi2_red);
+    sum.set("transient_pair.fit.evaluations", fit.evaluations);
+    sum.set("transient_pair.fit.converged", fit.converged ? 1 : 0);
+    sum.set("transient_pair.fit.condition", double(fitted));
+  }
+
+  // ---- continuum side, condition by condition (the DEM's /transient/group_G, in sweep order)
+  const Thresholds limits{c.number("transient.liquefaction_fraction"),
+                          c.number("transient.residual_fraction")};
+  for (std::size_t g = 0; g < conditions.size(); ++g) {
     const std::string key = conditions.size() > 1 ? fmt::format("transient_pair.{}.", g)
                                                   : std::string("transient_pair.");
-    const double phi0 = core::read_number_attribute(h5, dem_group, "mean_phi0");
-    const double p0 = core::read_number_attribute(h5, dem_group, "mean_p0");
-    const auto strain_dem = core::read_dataset(h5, dem_group + "/strain");
-    const auto p_dem = core::read_dataset(h5, dem_group + "/p_mean");
-    const auto tau_dem = core::read_dataset(h5, dem_group + "/tau_mean");
-    const auto dem_m = dem::transient_metrics(strain_dem, p_dem, tau_dem, p0, fraction, residual);
-
-    rev::SimpleShearResult rev;
-    bool failed = false;
-    try {
-      continuum_transient(conditions[g], phi0, p0, rev);
-    } catch (const core::NumericalFailure& e) {
-      log.error("condition {}: the continuum's undrained shear stopped: {}", g, e.what());
-      failed = true;  // the series so far are written below, then exit 3
-    }
-    const auto& s = rev.series;
-    const auto cont_m =
-        dem::transient_metrics(s.strain, s.pressure, s.shear_stress, p0, fraction, residual);
-    ctx.result.write(group + "/strain", s.strain, "1", "shear strain of the continuum's steps");
-    ctx.result.write(group + "/p", s.pressure, "Pa",
-                     "continuum mean stress p' = p_COL + tr(σ_FC)/3 (the DEM's tr(P)/3)");
-    ctx.result.write(group + "/sigma_yy", s.normal_stress, "Pa", "continuum normal stress σ_yy");
-    ctx.result.write(group + "/tau", s.shear_stress, "Pa", "continuum shear stress τ");
-    ctx.result.write(group + "/tau_force_chains", s.force_chain_shear_stress, "Pa",
-                     "τ carried by the force chains");
-    ctx.result.write(group + "/granular_temperature", s.granular_temperature, "m^2/s^2",
-                     "continuum granular temperature T");
-    ctx.result.attribute(group, "phi0", phi0);
-    ctx.result.attribute(group, "p0", p0);
+    const std::string group = fmt::format("/transient_pair/group_{}", g);
+    ctx.result.attribute(group, "phi0", dem_side[g].phi0);
+    ctx.result.attribute(group, "p0", dem_side[g].p0);
     ctx.result.attribute(group, "shear_rate", conditions[g].number("shear_rate"));
-    ctx.result.attribute(group, "liquefaction_fraction", fraction);
-    if (failed) {
-      ctx.result.flush();
+    ctx.result.attribute(group, "liquefaction_fraction", limits.liquefaction);
+    sum.set(key + "phi0", dem_side[g].phi0);
+    sum.set(key + "p0", dem_side[g].p0);
+    const double band = core::read_number_attribute(h5, fmt::format("/transient/group_{}", g),
+                                                    "err_residual_tau");
+    if (!compare(ctx, conditions[g], dem_side[g], band, limits, group, key, "", g))
       return core::exit_numerical;
+    if (!estimate.empty()) {
+      const core::Case calibrated =
+          with_force_chain_values(conditions[g], schema, fit_names, estimate);
+      if (!compare(ctx, calibrated, dem_side[g], band, limits, group, key, "_cal", g))
+        return core::exit_numerical;
+      sum.set(key + "held_out", g == fitted ? 0 : 1);
     }
-
-    const std::pair<const char*, std::pair<double, double>> metrics[] = {
-        {"peak_tau", {dem_m.peak_tau, cont_m.peak_tau}},
-        {"peak_strain", {dem_m.peak_strain, cont_m.peak_strain}},
-        {"residual_tau", {dem_m.residual_tau, cont_m.residual_tau}},
-        {"residual_p", {dem_m.residual_p, cont_m.residual_p}},
-    };
-    for (const auto& [name, values] : metrics) {
-      sum.set(key + name + "_dem", values.first);
-      sum.set(key + name + "_cont", values.second);
-      ctx.result.attribute(group, std::string(name) + "_dem", values.first);
-      ctx.result.attribute(group, std::string(name) + "_cont", values.second);
-    }
-    sum.set(key + "rel_err_peak_tau", relative_error(cont_m.peak_tau, dem_m.peak_tau));
-    sum.set(key + "phi0", phi0);
-    sum.set(key + "p0", p0);
-    const bool liq_dem = dem_m.liquefaction_strain >= 0, liq_cont = cont_m.liquefaction_strain >= 0;
-    sum.set(key + "liquefied_dem", liq_dem ? 1 : 0);
-    sum.set(key + "liquefied_cont", liq_cont ? 1 : 0);
-    ctx.result.attribute(group, "liquefied_dem", liq_dem ? 1.0 : 0.0);
-    ctx.result.attribute(group, "liquefied_cont", liq_cont ? 1.0 : 0.0);
-    if (liq_dem) sum.set(key + "liquefaction_strain_dem", dem_m.liquefaction_strain);
-    if (liq_cont) sum.set(key + "liquefaction_strain_cont", cont_m.liquefaction_strain);
-    if (liq_dem && liq_cont)
-      sum.set(key + "rel_err_liquefaction_strain",
-              relative_error(cont_m.liquefaction_strain, dem_m.liquefaction_strain));
-    // The residual τ against the DEM's seed band: its seed-mean ± 2 standard errors (between
-    // seeds, dem transient.err.residual_tau) or ± 2 batch-means errors of one seed's tail.
-    const double band_err = std::max(
-        dem_m.residual_tau_err, core::read_number_attribute(h5, dem_group, "err_residual_tau"));
-    const bool within = std::abs(cont_m.residual_tau - dem_m.residual_tau) <= 2.0 * band_err;
-    sum.set(key + "residual_tau_dem_err", band_err);
-    sum.set(key + "residual_tau_within_band", within ? 1 : 0);
-    log.info(
-        "condition {} (φ0 = {:.4f}, p0 = {:.4g} Pa, γ̇ = {:g} 1/s): peak τ DEM {:.4g} Pa at γ = "
-        "{:.3g}, continuum {:.4g} Pa at {:.3g} ({:+.1f} %); liquefied: DEM {}, continuum {}; "
-        "residual τ DEM {:.4g} ± {:.2g} Pa, continuum {:.4g} Pa{}",
-        g, phi0, p0, conditions[g].number("shear_rate"), dem_m.peak_tau, dem_m.peak_strain,
-        cont_m.peak_tau, cont_m.peak_strain,
-        100.0 * relative_error(cont_m.peak_tau, dem_m.peak_tau),
-        liq_dem ? fmt::format("at γ = {:.3g}", dem_m.liquefaction_strain) : std::string("no"),
-        liq_cont ? fmt::format("at γ = {:.3g}", cont_m.liquefaction_strain) : std::string("no"),
-        dem_m.residual_tau, 2.0 * band_err, cont_m.residual_tau,
-        within ? " (within the DEM band)" : "");
   }
   sum.set("transient_pair.count", double(conditions.size()));
   ctx.result.flush();

@@ -4,10 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
 #include "analysis/calibration/steady_shear_model.hpp"
+#include "analysis/transient_pair/continuum_transient.hpp"
 #include "analysis/transient_pair/transient_pair_kind.hpp"
 #include "continuum/sections/model_sections.hpp"
 #include "core/kind_registry.hpp"
@@ -130,6 +132,39 @@ TEST(TransientPair, LoosePackingInTheDemAndTheContinuum) {
   EXPECT_EQ(s.get("transient_pair.liquefied_dem"), 1.0);
   EXPECT_DOUBLE_EQ(s.get("transient_pair.peak_tau_dem"), dem.get("transient.peak_tau"));
   EXPECT_TRUE(std::filesystem::exists(dir / "run" / "transient_pair.png"));
+}
+
+// The fit recovers a force-chain parameter from a transient the continuum itself made (two paths:
+// the forward run at ξ_ψ = 8, the fit from the case's ξ_ψ = 12). The "DEM" here is the REV's
+// own p'(γ), τ(γ) on a loose packing with the quasi-static line (e_Γ 0.71, λ_c 0.01), which
+// liquefies, sampled every 0.005, with a zero band (σ = the 1 % p0 floor).
+TEST(TransientPair, FitRecoversTheParameterThatMadeTheTransient) {
+  const auto schema = transient_pair_schema();
+  const auto c = core::Case::parse(pair_case("unused"), "tiny.yaml",
+                                   {"force_chains.e_Gamma=0.71", "force_chains.lambda_c=0.01",
+                                    "force_chains.xi_psi=12", "strain.total=0.15"},
+                                   schema);
+  const double phi0 = 0.5745, p0 = 100.0;
+  rev::SimpleShearResult truth;
+  continuum_transient(with_force_chain_values(c, schema, {"xi_psi"}, {8.0}), phi0, p0, truth);
+  DemTransient dem;
+  dem.phi0 = phi0, dem.p0 = p0;
+  for (double g = 0.005; g <= 0.15 + 1e-12; g += 0.005) {
+    dem.strain.push_back(g);
+    dem.p_mean.push_back(interpolate(truth.series.strain, truth.series.pressure, g));
+    dem.tau_mean.push_back(interpolate(truth.series.strain, truth.series.shear_stress, g));
+  }
+  dem.p_min = dem.p_max = dem.p_mean;
+  dem.tau_min = dem.tau_max = dem.tau_mean;
+  const auto fit = fit_force_chains(c, schema, {"xi_psi"}, dem);
+  ASSERT_EQ(fit.estimate.size(), 1u);
+  EXPECT_DOUBLE_EQ(fit.start[0], 12.0);
+  // The same model at the same strains: the optimum is exact up to the stress integration's
+  // tolerance (1e-5 relative per sub-step) and the 1 % difference steps of the fit, so 1 %.
+  EXPECT_NEAR(fit.estimate[0], 8.0, 0.08) << "after " << fit.evaluations << " REV runs";
+  std::printf("xi_psi %.6g after %d REV runs, chi2_red %.3g (start %.3g)\n", fit.estimate[0], fit.evaluations, fit.chi2_red, fit.chi2_initial);
+  EXPECT_LT(fit.chi2_red, 1e-2);
+  EXPECT_GT(fit.chi2_initial, 100 * fit.chi2_red * (fit.points - 1));  // it did move
 }
 
 TEST(TransientPair, NeedsAPreparationAndConstantVolume) {
