@@ -12,6 +12,7 @@
 
 #include "dem_coupling/deck/driver_parameters.hpp"
 #include "dem_coupling/deck/initial_state.hpp"
+#include "dem_coupling/extraction/snapshots.hpp"
 
 namespace granflow::dem {
 
@@ -138,6 +139,12 @@ std::vector<std::pair<std::string, std::string>> check_shear_params(const ShearD
     issues.emplace_back("material.polydispersity", "in [0, 1)");
   if (!(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5))
     issues.emplace_back("material.poisson_ratio", "in (-1, 0.5)");
+  // A snapshot holds every particle (~100 bytes each): at most 1000 per run.
+  if (p.snapshot_strain > 0.0 && p.total_strain / p.snapshot_strain > 1000.0)
+    issues.emplace_back("output.snapshot_strain",
+                        fmt::format("0 or at least strain.total / 1000 = {:.3g} (at most 1000 "
+                                    "snapshots)",
+                                    p.total_strain / 1000.0));
   if (!(m.restitution > 0.0 && m.restitution <= 1.0))
     issues.emplace_back("material.restitution", "in (0, 1] (the contact damping needs e > 0)");
   // LIGGGHTS' own bounds on the material of its hertz model (global_properties.cpp, SI units:
@@ -263,6 +270,8 @@ ShearDeck shear_deck_timing(const ShearDeckParams& p) {
     out.dt_limit = step.limited_by;
   }
   out.sample_every = steps_for(p.sample_strain, p.shear_rate, out.dt);
+  out.snapshot_every =
+      p.snapshot_strain > 0.0 ? steps_for(p.snapshot_strain, p.shear_rate, out.dt) : 0;
   out.servo_every =
       p.constant_pressure
           ? std::max(1L, std::lround(double(steps_for(p.servo_strain, p.shear_rate, out.dt)) /
@@ -477,6 +486,9 @@ thermo          0                            # thermo (and the virial) at the en
                               : ", kinetic theory's homogeneous shear f2/f3 at phi"),
       fmt::arg("vseed", p.seed % 2147483647UL), fmt::arg("stress_average", stress_average));
   out.deck += fluid_fix;
+  // The shear starts after the compression, or at timestep 0 of a prepared state (its deck
+  // resets the step count).
+  out.deck += snapshot_commands(out.snapshot_every, prepared ? 0 : compression, p.shear_rate);
   return out;
 }
 

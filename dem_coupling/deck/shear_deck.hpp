@@ -96,6 +96,7 @@ struct ShearDeckParams {
   double dt_safety = 0.1;       // dt = dt_safety * min(t_Rayleigh, t_Hertz) (hooke: * t_c linear)
   double impact_speed_factor = 3.0;  // reference impact speed = factor * shear_rate * d_max
   int profile_bins = 10;
+  double snapshot_strain = 0.0;  // shear strain between particle snapshots; 0: none
   long compression_steps = 10000;
   WetShear wet;
   // Start from a prepared state (kind: dem_prepare, preparation_deck.hpp): the LIGGGHTS restart
@@ -115,6 +116,7 @@ struct ShearDeck {
   FluidTimeScales fluid_times;       // wet: the time scales at the solid fraction below
   double fluid_solid_fraction = 0;   // wet: ν used for the drag time scale
   long sample_every = 0, servo_every = 0, total_steps = 0;
+  long snapshot_every = 0;  // steps between particle snapshots (0: none; extraction/snapshots.hpp)
   // Immersed, constant pressure: the height moves during the first servo_move_every steps of
   // each servo interval and is held for the rest, where the servo measures σ_yy (a viscous
   // suspension's σ_yy responds at once to the dilation rate); 2/5 of the interval in whole

@@ -45,6 +45,7 @@
 #include <string>
 #include <vector>
 
+#include "dem_coupling/extraction/snapshots.hpp"
 #include "dem_coupling/driver/contact_probe.hpp"
 #include "dem_coupling/driver/prepare_stage.hpp"
 #include "dem_coupling/extraction/normal_stress_servo.hpp"
@@ -535,6 +536,12 @@ int main(int argc, char** argv) {
   if (rank == 0) {
     std::fclose(series);
     std::fclose(profile);
+    // The particle snapshots the deck asked for (output.snapshot_strain), indexed by strain.
+    try {
+      granflow::dem::index_snapshots(".", shear_begin, dt, shear_rate);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "granflow-dem: %s\n", e.what());
+    }
     int ranks = 1;
     MPI_Comm_size(MPI_COMM_WORLD, &ranks);
     const double particle_steps_per_s = natoms * double(total_steps) / liggghts_seconds;

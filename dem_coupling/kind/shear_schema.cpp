@@ -184,6 +184,12 @@ core::Schema shear_schema() {
   output.integer("profile_bins", "y bins of the mean velocity profile")
       .default_value("10")
       .at_least(1);
+  output
+      .number("snapshot_strain", "",
+              "shear strain between particle snapshots (snapshot_<step>.vtu, indexed by strain "
+              "in snapshots.pvd: ParaView, OVITO); 0: none")
+      .default_value("0")
+      .at_least(0);
   return s;
 }
 
@@ -226,6 +232,7 @@ ShearDeckParams read_shear_params(const core::Case& c) {
   p.total_strain = c.number("strain.total");
   p.sample_strain = c.number("strain.sample");
   p.profile_bins = static_cast<int>(c.integer("output.profile_bins"));
+  p.snapshot_strain = c.number("output.snapshot_strain");
   WetShear& w = p.wet;
   w.enabled = c.boolean("liquid.enabled");
   w.viscosity = c.number("liquid.viscosity");
