@@ -38,11 +38,30 @@ H5::Group ensure_group(H5::H5File& file, const std::string& path) {
   return parent.nameExists(leaf) ? parent.openGroup(leaf) : parent.createGroup(leaf);
 }
 
+// Variable-length UTF-8: h5py returns str, and the length is that of each value.
+H5::StrType utf8_string_type() {
+  H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
+  type.setCset(H5T_CSET_UTF8);
+  return type;
+}
+
 void string_attribute(H5::H5Object& object, const std::string& name, const std::string& value) {
-  H5::StrType type(H5::PredType::C_S1, std::max<std::size_t>(value.size(), 1));
+  const H5::StrType type = utf8_string_type();
   H5::DataSpace scalar(H5S_SCALAR);
   if (object.attrExists(name)) object.removeAttr(name);
-  object.createAttribute(name, type, scalar).write(type, value.empty() ? std::string(" ") : value);
+  object.createAttribute(name, type, scalar).write(type, value);
+}
+
+void string_list_attribute(H5::H5Object& object, const std::string& name,
+                           const std::vector<std::string>& values) {
+  const H5::StrType type = utf8_string_type();
+  const hsize_t dims[1] = {values.size()};
+  H5::DataSpace space(1, dims);
+  if (object.attrExists(name)) object.removeAttr(name);
+  std::vector<const char*> pointers;
+  for (const auto& v : values) pointers.push_back(v.c_str());
+  H5::Attribute a = object.createAttribute(name, type, space);
+  if (!values.empty()) a.write(type, pointers.data());
 }
 
 void number_attribute(H5::H5Object& object, const std::string& name, double value) {
@@ -50,6 +69,13 @@ void number_attribute(H5::H5Object& object, const std::string& name, double valu
   if (object.attrExists(name)) object.removeAttr(name);
   object.createAttribute(name, H5::PredType::NATIVE_DOUBLE, scalar)
       .write(H5::PredType::NATIVE_DOUBLE, &value);
+}
+
+void integer_attribute(H5::H5Object& object, const std::string& name, long value) {
+  H5::DataSpace scalar(H5S_SCALAR);
+  if (object.attrExists(name)) object.removeAttr(name);
+  object.createAttribute(name, H5::PredType::NATIVE_LONG, scalar)
+      .write(H5::PredType::NATIVE_LONG, &value);
 }
 
 template <class T>
@@ -85,11 +111,18 @@ decltype(auto) ResultFile::guarded(const std::string& action, Operation&& operat
   }
 }
 
-ResultFile::ResultFile(const std::filesystem::path& path) : path_(path) {
+ResultFile::ResultFile(const std::filesystem::path& path, Mode mode) : path_(path) {
   install_hdf5_error_recorder();
+  if (mode == Mode::append) {
+    impl_ = guarded("cannot open for writing the HDF5 file", [&] {
+      return std::make_unique<Impl>(Impl{H5::H5File(path.string(), H5F_ACC_RDWR)});
+    });
+    return;
+  }
   impl_ = guarded("cannot create the HDF5 file", [&] {
     return std::make_unique<Impl>(Impl{H5::H5File(path.string(), H5F_ACC_TRUNC)});
   });
+  attribute("/", "schema_version", result_schema_version);
 }
 ResultFile::Impl& ResultFile::open_file() const {
   if (!impl_) throw IoError(path_, "cannot write", "the file was already closed");
@@ -117,6 +150,14 @@ void ResultFile::write(const std::string& path, std::span<const long> values,
     write_dataset(open_file().file, path, values.data(), values.size(), 0,
                   H5::PredType::NATIVE_LONG, unit, description);
   });
+}
+void ResultFile::write(const std::string& group, const Column& column,
+                       std::span<const double> values) {
+  write(group + "/" + column.name, values, column.unit, column.description);
+}
+void ResultFile::write(const std::string& group, const Column& column,
+                       std::span<const long> values) {
+  write(group + "/" + column.name, values, column.unit, column.description);
 }
 void ResultFile::write_matrix(const std::string& path, std::span<const double> values,
                               std::size_t rows, std::size_t cols, const std::string& unit,
@@ -153,10 +194,33 @@ void ResultFile::attribute(const std::string& object_path, const std::string& na
   guarded("cannot write attribute " + name + " of " + object_path,
           [&] { set_attribute(open_file().file, object_path, name, value, number_attribute); });
 }
+void ResultFile::attribute(const std::string& object_path, const std::string& name, long value) {
+  guarded("cannot write attribute " + name + " of " + object_path,
+          [&] { set_attribute(open_file().file, object_path, name, value, integer_attribute); });
+}
 void ResultFile::attribute(const std::string& object_path, const std::string& name,
                            const std::string& value) {
   guarded("cannot write attribute " + name + " of " + object_path,
           [&] { set_attribute(open_file().file, object_path, name, value, string_attribute); });
+}
+void ResultFile::attribute(const std::string& object_path, const std::string& name,
+                           const std::vector<std::string>& values) {
+  guarded("cannot write attribute " + name + " of " + object_path, [&] {
+    set_attribute(open_file().file, object_path, name, values, string_list_attribute);
+  });
+}
+void ResultFile::remove(const std::string& object_path) {
+  guarded("cannot remove " + object_path, [&] {
+    H5::H5File& file = open_file().file;
+    // Every component must exist for H5Lexists on the next one.
+    for (std::size_t pos = 1;;) {
+      const auto slash = object_path.find('/', pos);
+      if (H5Lexists(file.getId(), object_path.substr(0, slash).c_str(), H5P_DEFAULT) <= 0) return;
+      if (slash == std::string::npos) break;
+      pos = slash + 1;
+    }
+    H5Ldelete(file.getId(), object_path.c_str(), H5P_DEFAULT);
+  });
 }
 void ResultFile::flush() {
   guarded("cannot write (flush)", [&] { open_file().file.flush(H5F_SCOPE_GLOBAL); });
@@ -239,6 +303,30 @@ double read_number_attribute(const std::filesystem::path& file, const std::strin
     double value = 0;
     open_attribute(f, object_path, name).read(H5::PredType::NATIVE_DOUBLE, &value);
     return value;
+  } catch (const H5::Exception& e) {
+    rethrow_h5(file, object_path + " attribute " + name, e);
+  }
+}
+
+std::vector<std::string> read_string_list_attribute(const std::filesystem::path& file,
+                                                    const std::string& object_path,
+                                                    const std::string& name) {
+  install_hdf5_error_recorder();
+  try {
+    H5::H5File f(file.string(), H5F_ACC_RDONLY);
+    const bool dataset = !(object_path.empty() || object_path == "/") &&
+                         f.childObjType(object_path) == H5O_TYPE_DATASET;
+    const bool exists = dataset ? f.openDataSet(object_path).attrExists(name)
+                                : f.openGroup(object_path.empty() ? "/" : object_path).attrExists(name);
+    if (!exists) return {};
+    H5::Attribute a = open_attribute(f, object_path, name);
+    const auto n = a.getSpace().getSimpleExtentNpoints();
+    std::vector<char*> pointers(n, nullptr);
+    const H5::StrType type = utf8_string_type();
+    if (n > 0) a.read(type, pointers.data());
+    std::vector<std::string> values(pointers.begin(), pointers.end());
+    H5Dvlen_reclaim(type.getId(), a.getSpace().getId(), H5P_DEFAULT, pointers.data());
+    return values;
   } catch (const H5::Exception& e) {
     rethrow_h5(file, object_path + " attribute " + name, e);
   }

@@ -16,6 +16,7 @@
 #include "core/interrupt.hpp"
 #include "core/process.hpp"
 #include "core/sweep_scheduler.hpp"
+#include "dem_coupling/kind/dem_columns.hpp"
 #include "dem_coupling/kind/dem_fits.hpp"
 #include "dem_coupling/kind/launch.hpp"
 #include "dem_coupling/kind/mixed_number_fit.hpp"
@@ -262,76 +263,40 @@ int run_shear(core::RunContext& ctx) {
   if (!core::run_conditions(ctx, conditions.size(), compute, absorb))
     return core::exit_ok;  // another rank than 0: rank 0 writes the tables and plots
 
-  // Steady table, one row per condition (what calibration reads; docs/dem_dataset.md).
-  struct Column {
-    const char* key;
-    const char* name;
-    const char* unit;
-    const char* doc;
-  };
-  const Column columns[] = {
-      {"mu", "friction", "1", "μ = <τ>/<σ_yy>"},
-      {"mu_err", "friction_err", "1", "standard error of μ (batch means, delta method)"},
-      {"phi", "solid_fraction", "1", "φ"},
-      {"phi_err", "solid_fraction_err", "1", "standard error of φ"},
-      {"e", "void_ratio", "1", "e = 1/φ - 1"},
-      {"e_err", "void_ratio_err", "1", "standard error of e (from that of φ)"},
-      {"T", "granular_temperature", "m^2/s^2", "T about the Lees-Edwards profile"},
-      {"T_err", "granular_temperature_err", "m^2/s^2", "standard error of T"},
-      {"T_scaled", "scaled_temperature", "1", "T / (d γ̇)^2"},
-      {"p", "normal_stress", "Pa", "σ_yy"},
-      {"p_err", "normal_stress_err", "Pa", "standard error of σ_yy"},
-      {"p_mean", "pressure", "Pa", "tr(P)/3"},
-      {"p_mean_err", "pressure_err", "Pa", "standard error of tr(P)/3"},
-      {"tau", "shear_stress", "Pa", "τ"},
-      {"tau_err", "shear_stress_err", "Pa", "standard error of τ"},
-      {"I", "inertial_number", "1", "I = γ̇ d / sqrt(σ_yy/ρ_p)"},
-      {"I_err", "inertial_number_err", "1", "standard error of I"},
-      {"Z", "coordination", "1", "coordination number"},
-      {"Z_err", "coordination_err", "1", "standard error of Z"},
-      {"start_strain", "start_strain", "1", "strain where the steady part starts (MSER-5)"},
-      {"reached", "steady_reached", "1",
-       "1 when no observable drifts by more than 3 standard errors over the window, else 0"},
-      {"drift_max", "drift_max", "1",
-       "largest |second half - first half| of the window over the observables, in standard "
-       "errors"},
-      {"profile_deviation", "profile_deviation", "1", "RMS deviation from the linear profile"},
-  };
-  const Column wet_columns[] = {
-      {"eta", "viscosity", "Pa s", "liquid viscosity η0"},
-      {"St", "stokes_number", "1", "St = ρ_p d² γ̇ / η0"},
-      {"J", "viscous_number", "1", "J = η0 γ̇ / σ_yy"},
-      {"J_err", "viscous_number_err", "1", "standard error of J"},
-      {"K", "mixed_number", "1", "K = J + α I² (α = liquid.trulsson_alpha)"},
-      {"K_err", "mixed_number_err", "1", "standard error of K"},
-      {"tau_contact", "shear_stress_contact", "Pa", "contact part of τ"},
-      {"tau_contact_err", "shear_stress_contact_err", "Pa", "standard error"},
-      {"tau_lub", "shear_stress_lubrication", "Pa", "lubrication part of τ"},
-      {"tau_lub_err", "shear_stress_lubrication_err", "Pa", "standard error"},
-      {"tau_drag", "shear_stress_drag", "Pa", "drag part of τ"},
-      {"tau_drag_err", "shear_stress_drag_err", "Pa", "standard error"},
-      {"tau_kin", "shear_stress_kinetic", "Pa", "kinetic part of τ"},
-      {"tau_kin_err", "shear_stress_kinetic_err", "Pa", "standard error"},
-      {"mu_contact", "friction_contact", "1", "τ_contact/σ_yy (ratio of the steady means)"},
-      {"mu_contact_err", "friction_contact_err", "1", "standard error (delta method)"},
-      {"mu_lub", "friction_lubrication", "1", "τ_lub/σ_yy (ratio of the steady means)"},
-      {"mu_lub_err", "friction_lubrication_err", "1", "standard error (delta method)"},
-  };
+  // Steady table, one row per condition (what calibration reads; docs/results.md): the columns
+  // of kind/dem_columns.hpp, a failed point NaN (its flags 0).
   bool any_wet = false;
   for (const core::Case& c : conditions) any_wet = any_wet || c.boolean("liquid.enabled");
   auto& out = ctx.result;
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  auto write_column = [&](const Column& col) {
-    std::vector<double> v;
-    for (const auto& r : results) {
-      const auto it = r.values.find(col.key);
-      v.push_back(it == r.values.end() ? nan : it->second);
+  std::vector<std::string> column_names;
+  auto write_column = [&](const DemColumn& col) {
+    auto values_of = [&](const std::string& key) {
+      std::vector<double> v;
+      for (const auto& r : results) {
+        const auto it = r.values.find(key);
+        v.push_back(it == r.values.end() ? nan : it->second);
+      }
+      return v;
+    };
+    const std::vector<double> v = values_of(col.key);
+    if (col.integer) {
+      std::vector<long> flags;
+      for (double x : v) flags.push_back(std::isfinite(x) ? std::lround(x) : 0L);
+      out.write("/steady", col.column, flags);
+    } else {
+      out.write("/steady", col.column, v);
     }
-    out.write(std::string("/steady/") + col.name, v, col.unit, col.doc);
+    column_names.push_back(col.column.name);
+    if (!col.error) return;
+    const std::string name = std::string(col.column.name) + "_err";
+    out.write("/steady/" + name, values_of(std::string(col.key) + "_err"), col.column.unit,
+              "standard error of " + std::string(col.column.name));
+    column_names.push_back(name);
   };
-  for (const Column& col : columns) write_column(col);
+  for (const DemColumn& col : dem_columns::steady) write_column(col);
   if (any_wet)
-    for (const Column& col : wet_columns) write_column(col);
+    for (const DemColumn& col : dem_columns::wet_steady) write_column(col);
   std::vector<double> rate, friction_p, target, dt, wall;
   for (std::size_t n = 0; n < results.size(); ++n) {
     const ShearDeckParams p = params_of(n);
@@ -341,18 +306,27 @@ int run_shear(core::RunContext& ctx) {
     dt.push_back(results[n].dt);
     wall.push_back(results[n].wall);
   }
-  out.write("/steady/shear_rate", rate, "1/s", "imposed shear rate γ̇");
-  out.write("/steady/particle_friction", friction_p, "1", "μ_p");
-  out.write("/steady/control_target", target, "Pa or 1",
-            "imposed σ_yy (constant_pressure) or φ (constant_volume)");
-  out.write("/steady/dt", dt, "s", "DEM time step");
-  out.write("/steady/wall_s", wall, "s", "wall time of the point");
+  // The imposed target, in its own unit: σ_yy under constant_pressure, φ under constant_volume.
+  const bool constant_pressure = ctx.run_case.string("control.mode") == "constant_pressure";
+  for (const auto& [column, values] :
+       {std::pair{dem_columns::shear_rate, &rate}, {dem_columns::particle_friction, &friction_p},
+        {constant_pressure ? dem_columns::normal_stress_target : dem_columns::solid_fraction_target,
+         &target},
+        {dem_columns::time_step, &dt}, {dem_columns::wall_time, &wall}}) {
+    out.write("/steady", column, *values);
+    column_names.push_back(column.name);
+  }
   const auto& c0 = ctx.run_case;
   out.attribute("/steady", "diameter", c0.number("material.diameter"));
   out.attribute("/steady", "particle_density", c0.number("material.particle_density"));
   out.attribute("/steady", "restitution", c0.number("material.restitution"));
   out.attribute("/steady", "control", c0.string("control.mode"));
-  out.attribute("/steady", "schema", "granflow DEM dataset v1 (docs/dem_dataset.md)");
+  // What Python reads instead of lists of its own: the columns in order and the swept keys.
+  out.attribute("/steady", "columns", column_names);
+  std::vector<std::string> sweep_keys;
+  if (!swept.empty())
+    for (const auto& [key, value] : swept.front()) sweep_keys.push_back(key);
+  out.attribute("/steady", "sweep_keys", sweep_keys);
   out.flush();
   // A sweep over dem.seed: means over the seeds with between-seed errors (/seeds, seeds.*).
   write_seed_statistics(ctx, group_by_seed(swept), results);

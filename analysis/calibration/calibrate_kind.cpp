@@ -342,15 +342,21 @@ int run_calibrate_case(core::RunContext& ctx) {
             "1", "μ_p of the condition");
   out.write("/data/inertial_number", col([](const DataPoint& p) { return p.inertial_number; }), "1",
             "DEM I");
-  out.write("/data/source", col([](const DataPoint& p) { return double(p.source); }), "1",
+  // Indices and flags as integers.
+  const auto integers = [&](auto get) {
+    std::vector<long> v;
+    for (const auto& p : used) v.push_back(get(p));
+    return v;
+  };
+  out.write("/data/source", integers([](const DataPoint& p) { return long(p.source); }), "1",
             "index of the data file (data.files order)");
-  out.write("/data/row", col([](const DataPoint& p) { return double(p.row); }), "1",
+  out.write("/data/row", integers([](const DataPoint& p) { return long(p.row); }), "1",
             "row in that file's /steady table (a text table: its data row)");
   out.write("/data/protocol",
-            col([](const DataPoint& p) { return p.protocol == Protocol::constant_volume ? 1.0 : 0.0; }),
+            integers([](const DataPoint& p) { return p.protocol == Protocol::constant_volume ? 1L : 0L; }),
             "1", "0: constant pressure (σ_yy imposed), 1: constant volume (φ imposed)");
-  std::vector<double> training_flag;
-  for (char h : held) training_flag.push_back(h ? 0.0 : 1.0);
+  std::vector<long> training_flag;
+  for (char h : held) training_flag.push_back(h ? 0L : 1L);
   out.write("/data/training", training_flag, "1", "1: used in the fit, 0: held out");
   const char* units[] = {"1", "1", "1", "1"};
   for (int k = 0; k < observable_count; ++k) {

@@ -12,6 +12,7 @@
 
 #include "statistics/least_squares.hpp"
 #include "continuum/sections/model_sections.hpp"
+#include "core/result_columns.hpp"
 #include "core/result_file.hpp"
 #include "core/run.hpp"
 
@@ -163,12 +164,12 @@ DemDataset read_dem_dataset(const std::filesystem::path& file, int source_index)
   if (!std::filesystem::exists(file))
     throw std::runtime_error(fmt::format("{}: no such DEM dataset", file.string()));
   DemDataset out;
-  const auto column = [&](const char* name) {
+  const auto column = [&](const std::string& name) {
     try {
-      return core::read_dataset(file, std::string("/steady/") + name);
+      return core::read_dataset(file, "/steady/" + name);
     } catch (const std::exception& e) {
       throw std::runtime_error(fmt::format(
-          "{}: /steady/{} missing or unreadable ({}); expected a DEM dataset (docs/dem_dataset.md)",
+          "{}: /steady/{} missing or unreadable ({}); expected a DEM dataset (docs/results.md)",
           file.string(), name, e.what()));
     }
   };
@@ -184,39 +185,44 @@ DemDataset read_dem_dataset(const std::filesystem::path& file, int source_index)
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(fmt::format("{}: /steady attribute control: {}", file.string(), e.what()));
   }
-  const auto shear_rate = column("shear_rate"), sigma = column("normal_stress"),
-             mu = column("friction"), mu_err = column("friction_err"),
-             phi = column("solid_fraction"), phi_err = column("solid_fraction_err"),
-             T = column("granular_temperature"), T_err = column("granular_temperature_err"),
-             T_scaled = column("scaled_temperature"), mu_p = column("particle_friction"),
-             I = column("inertial_number");
+  // The names of the DEM kind's /steady table (dem_coupling/kind/dem_columns.hpp).
+  namespace c = core::columns;
+  const std::string err = c::error_suffix;
+  const auto shear_rate = column(c::shear_rate.name), sigma = column(c::normal_stress.name),
+             mu = column(c::friction.name), mu_err = column(c::friction.name + err),
+             phi = column(c::solid_fraction.name),
+             phi_err = column(c::solid_fraction.name + err),
+             T = column(c::granular_temperature.name),
+             T_err = column(c::granular_temperature.name + err),
+             T_scaled = column(c::scaled_temperature.name),
+             mu_p = column(c::particle_friction.name), I = column(c::inertial_number.name);
   // Immersed datasets carry η0 per row (a wet sweep varies it); dry ones have no such column.
   std::vector<double> viscosity;
   try {
-    viscosity = core::read_dataset(file, "/steady/viscosity");
-  } catch (const std::exception&) {  // dry datasets have no /steady/viscosity
+    viscosity = core::read_dataset(file, std::string("/steady/") + c::liquid_viscosity.name);
+  } catch (const std::exception&) {  // dry datasets have no liquid viscosity column
     viscosity.clear();
   }
   std::vector<double> sigma_err;  // σ_yy's standard error (the scaled pressure's)
   try {
-    sigma_err = core::read_dataset(file, "/steady/normal_stress_err");
+    sigma_err = core::read_dataset(file, std::string("/steady/") + c::normal_stress.name + err);
   } catch (const std::exception&) {  // written by every granflow DEM run; absent in older tables
     sigma_err.clear();
   }
   // One row per condition in every column: a shorter or longer column is a damaged dataset.
-  const std::pair<const char*, const std::vector<double>*> columns[] = {
-      {"normal_stress", &sigma},
-      {"friction", &mu},
-      {"friction_err", &mu_err},
-      {"solid_fraction", &phi},
-      {"solid_fraction_err", &phi_err},
-      {"granular_temperature", &T},
-      {"granular_temperature_err", &T_err},
-      {"scaled_temperature", &T_scaled},
-      {"particle_friction", &mu_p},
-      {"inertial_number", &I},
-      {"viscosity", &viscosity},
-      {"normal_stress_err", &sigma_err}};
+  const std::pair<std::string, const std::vector<double>*> columns[] = {
+      {c::normal_stress.name, &sigma},
+      {c::friction.name, &mu},
+      {c::friction.name + err, &mu_err},
+      {c::solid_fraction.name, &phi},
+      {c::solid_fraction.name + err, &phi_err},
+      {c::granular_temperature.name, &T},
+      {c::granular_temperature.name + err, &T_err},
+      {c::scaled_temperature.name, &T_scaled},
+      {c::particle_friction.name, &mu_p},
+      {c::inertial_number.name, &I},
+      {c::liquid_viscosity.name, &viscosity},
+      {c::normal_stress.name + err, &sigma_err}};
   for (const auto& [name, values] : columns)
     if (values->size() != shear_rate.size() &&
         !((values == &viscosity || values == &sigma_err) && values->empty()))

@@ -94,7 +94,7 @@ struct DemDataset {
   std::vector<std::string> skipped;  // one line per skipped row, with the reason
   Protocol protocol = Protocol::constant_pressure;
 };
-// Reads /steady of a DEM result.h5 (schema v1, docs/dem_dataset.md); the protocol is the /steady
+// Reads /steady of a DEM result.h5 (docs/results.md); the protocol is the /steady
 // attribute `control` (constant_pressure when absent). Throws std::runtime_error naming the file
 // and dataset when it is not a DEM dataset.
 DemDataset read_dem_dataset(const std::filesystem::path& file, int source_index);

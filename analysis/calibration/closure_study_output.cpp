@@ -263,8 +263,8 @@ void write_curves(const Study& o, const fs::path& file) {
   h5.write("/data/inertial_number", column(inertial), "1", "DEM I");
   h5.write("/data/normal_stress", column([](const DataPoint& p) { return p.normal_stress; }), "Pa",
            "DEM σ_yy");
-  std::vector<double> training;
-  for (char held : o.data.held) training.push_back(held ? 0.0 : 1.0);
+  std::vector<long> training;
+  for (char held : o.data.held) training.push_back(held ? 0L : 1L);
   h5.write("/data/training", training, "1", "1: fitted, 0: held out");
   for (int k = 0; k < observable_count; ++k) {
     const std::string& n = observable_names()[k];
@@ -315,11 +315,11 @@ void write_curves(const Study& o, const fs::path& file) {
                "continuum steady " + observable_names()[k] + ", rank " + std::to_string(written));
     h5.attribute(group, "label",
                  comb.label + (twins ? fmt::format(" (+{} identical)", twins) : std::string()));
-    h5.attribute(group, "rank", r + 1.0);
+    h5.attribute(group, "rank", static_cast<long>(r + 1));
     h5.attribute(group, "aic", f.aic);
     h5.attribute(group, "chi2_red", f.chi2_red);
   }
-  h5.attribute("/curves", "count", static_cast<double>(written));
+  h5.attribute("/curves", "count", static_cast<long>(written));
   h5.flush();
 }
 

@@ -70,8 +70,7 @@ def friction_fits(h5):
 
 
 def law_name(f):
-    law = f.get("law", "gdr_midi")
-    return law.decode() if isinstance(law, bytes) else str(law)
+    return str(f.get("law", "gdr_midi"))
 
 
 def law_label(f):
@@ -92,23 +91,10 @@ def fitted_solid_fraction(f, I):
     return f["phi_c"] - f["a"] * I
 
 
-# /conditions/N/steady attribute of each /steady column (docs/dem_dataset.md).
-CONDITION_ATTRS = {
-    "inertial_number": "I", "inertial_number_err": "I_err", "friction": "mu",
-    "friction_err": "mu_err", "solid_fraction": "phi", "solid_fraction_err": "phi_err",
-    "scaled_temperature": "T_scaled", "granular_temperature": "T",
-    "granular_temperature_err": "T_err", "viscous_number": "J", "viscous_number_err": "J_err",
-    "mixed_number": "K", "mixed_number_err": "K_err", "stokes_number": "St",
-    "shear_stress": "tau", "shear_stress_contact": "tau_contact",
-    "shear_stress_contact_err": "tau_contact_err", "shear_stress_lubrication": "tau_lub",
-    "shear_stress_lubrication_err": "tau_lub_err", "shear_stress_drag": "tau_drag",
-    "shear_stress_drag_err": "tau_drag_err", "shear_stress_kinetic": "tau_kin",
-    "shear_stress_kinetic_err": "tau_kin_err"}
-
-
 class ConditionTable:
     """/steady-like columns of a sweep that has not written /steady (running or interrupted),
-    from /conditions/N/steady; a condition that stopped before strain.total is NaN."""
+    from /conditions/N/steady, whose attributes carry the /steady column names
+    (dem_coupling/kind/dem_columns.hpp); a condition that stopped before strain.total is NaN."""
 
     def __init__(self, run, h5):
         total = np.nan
@@ -119,20 +105,24 @@ class ConditionTable:
         except Exception:  # noqa: BLE001 - no case file: keep every condition
             pass
         conds = sorted(h5["conditions"].keys(), key=int)
-        self.columns = {name: np.full(len(conds), np.nan) for name in CONDITION_ATTRS}
+        names = set()
+        for n in conds:
+            if "steady" in h5["conditions"][n]:
+                names.update(h5["conditions"][n]["steady"].attrs.keys())
+        self.columns = {name: np.full(len(conds), np.nan) for name in names}
         self.columns["particle_friction"] = np.full(len(conds), np.nan)
         self.wet = False
         for k, n in enumerate(conds):
             g = h5["conditions"][n]
             self.columns["particle_friction"][k] = g.attrs.get("particle_friction", np.nan)
-            self.wet = self.wet or "viscosity" in g.attrs
+            self.wet = self.wet or "liquid_viscosity" in g.attrs
             if "steady" not in g:
                 continue
             a = g["steady"].attrs
-            if np.isfinite(total) and a.get("end_strain", 0.0) < 0.98 * total:
+            if np.isfinite(total) and a.get("steady_end_strain", 0.0) < 0.98 * total:
                 continue
-            for name, key in CONDITION_ATTRS.items():
-                self.columns[name][k] = a.get(key, np.nan)
+            for name in names:
+                self.columns[name][k] = a.get(name, np.nan)
         self.attrs = {}
         if "fits/mixed_number" in h5:
             self.attrs["fitted_alpha"] = h5["fits/mixed_number"].attrs["alpha"]
@@ -158,19 +148,20 @@ def point_plots(run, h5, n):
         return
     s = g["series"]
     strain = s["strain"][:]
-    start = g["steady"].attrs.get("start_strain", np.nan) if "steady" in g else np.nan
+    start = g["steady"].attrs.get("steady_start_strain", np.nan) if "steady" in g else np.nan
     fig, axes = plt.subplots(2, 2, figsize=(11, 6.5), sharex=True)
-    panels = [("mu", "μ = τ/σ_yy"), ("sigma_yy", "σ_yy [Pa]"), ("phi", "φ"), ("T", "T [m²/s²]")]
-    for ax, (name, label) in zip(axes.flat, panels):
+    # The series and the steady attributes share the names of docs/results.md.
+    names = ["friction", "normal_stress", "solid_fraction", "granular_temperature"]
+    for ax, name in zip(axes.flat, names):
         ax.plot(strain, s[name][:], lw=0.6)
         if np.isfinite(start):
             ax.axvline(start, color="k", ls="--", lw=0.8, label="steady start (MSER-5)")
-        if "steady" in g and name in ("mu", "phi", "T"):
-            key = {"mu": "mu", "phi": "phi", "T": "T"}[name]
-            ax.axhline(g["steady"].attrs[key], color="r", lw=0.8, label="steady mean")
-        if name == "sigma_yy" and "normal_stress_target" in g.attrs:
+        if "steady" in g and name in g["steady"].attrs:
+            ax.axhline(g["steady"].attrs[name], color="r", lw=0.8, label="steady mean")
+        if name == "normal_stress" and "normal_stress_target" in g.attrs:
             ax.axhline(g.attrs["normal_stress_target"], color="g", lw=0.8, label="servo target")
-        ax.set(ylabel=label)
+        unit = s[name].attrs.get("unit", "1")
+        ax.set(ylabel=s[name].attrs.get("description", name) + ("" if unit == "1" else f" [{unit}]"))
     for ax in axes[1]:
         ax.set(xlabel="shear strain")
     axes[0][0].legend(fontsize=7)
@@ -185,7 +176,7 @@ def point_plots(run, h5, n):
         steady = v[pstrain >= start] if np.isfinite(start) else v
         mean = np.nanmean(steady, axis=0)
         bins = mean.size
-        ly = s["ly"][-1]
+        ly = s["box_height"][-1]
         y = (np.arange(bins) + 0.5) / bins * ly
         fig, ax = plt.subplots(figsize=(4.5, 4))
         ax.plot(mean, y * 1e3, "o", label="DEM (steady mean)")

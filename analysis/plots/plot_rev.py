@@ -7,6 +7,9 @@ import sys
 import h5py
 import matplotlib
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
+import granflow_results as gr  # noqa: E402
+
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
@@ -36,7 +39,7 @@ def series_plots(run, h5):
         axes[0].set(xlabel="shear strain γ", ylabel="τ [Pa]", title="shear stress and its parts")
         axes[0].legend(fontsize=8)
         axes[1].semilogx(strain, g["effective_pressure"][:] / 1e3, "k", label="p'")
-        axes[1].semilogx(strain, g["yield_size"][:] / 1e3, "k:", label="r_c")
+        axes[1].semilogx(strain, g["locus_size"][:] / 1e3, "k:", label="r_c")
         axes[1].set(xlabel="shear strain γ", ylabel="[kPa]", title="skeleton: p' and r_c")
         axes[1].legend(fontsize=8)
         fig.tight_layout()
@@ -44,32 +47,34 @@ def series_plots(run, h5):
         plt.close(fig)
 
 
-def sweep_plots(run, h5):
-    s = h5["steady"]
-    I = s["inertial_number"][:]
-    order = np.argsort(I)
-    d = s.attrs["diameter"]
-    gd = s["shear_rate"][:]
-    T = s["granular_temperature"][:]
-    wet = s.attrs["liquid_enabled"] > 0.5
-    panels = 5 if wet else 3
-    fig, axes = plt.subplots(1, panels, figsize=(4.2 * panels, 3.8))
-    axes[0].semilogx(I[order], s["friction"][:][order], "o-")
-    axes[0].set(xlabel="I", ylabel="μ", title="μ(I)")
-    axes[1].semilogx(I[order], s["void_ratio"][:][order], "o-")
-    axes[1].set(xlabel="I", ylabel="e", title="e(I)")
-    axes[2].loglog(I[order], (T / (d * gd) ** 2)[order], "o-")
-    axes[2].set(xlabel="I", ylabel="T/(d γ̇)²", title="scaled temperature")
+def sweep_plots(run):
+    """The steady table through the reader (analysis/python/granflow_results.py): the axes are
+    labelled with the descriptions and units the file carries."""
+    s = gr.open_run(run).steady()
+    units, text = s.attrs["units"], s.attrs["descriptions"]
+
+    def label(name):
+        unit = units.get(name, "1")
+        return text.get(name, name).split(",")[0] + ("" if unit == "1" else f" [{unit}]")
+
+    s = s.sort_values("inertial_number")
+    wet = int(s.attrs["attributes"].get("liquid_enabled", 0)) == 1
+    panels = [("inertial_number", "friction", "semilogx"), ("inertial_number", "void_ratio", "semilogx"),
+              ("inertial_number", "scaled_temperature", "loglog")]
     if wet:
-        J = s["viscous_number"][:]
-        K = s["unified_number"][:]
-        oj, ok = np.argsort(J), np.argsort(K)
-        axes[3].semilogx(J[oj], s["friction"][:][oj], "o-")
-        axes[3].set(xlabel="J", ylabel="μ", title="μ(J)")
-        axes[4].semilogx(K[ok], s["friction"][:][ok], "o-")
-        axes[4].set(xlabel="K = J + αI²", ylabel="μ", title="μ(K)")
+        panels += [("viscous_number", "friction", "semilogx"), ("mixed_number", "friction", "semilogx")]
+    fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 3.8))
+    for ax, (x, y, style) in zip(axes, panels):
+        t = s.sort_values(x)
+        getattr(ax, style)(t[x], t[y], "o-")
+        ax.set(xlabel=label(x), ylabel=label(y))
+        ax.title.set_text(f"{y} against {x}")
+        ax.title.set_fontsize(9)
+        ax.xaxis.label.set_fontsize(8)
+        ax.yaxis.label.set_fontsize(8)
     fig.tight_layout()
     fig.savefig(os.path.join(run, "steady.png"), dpi=120)
+    plt.close(fig)
 
 
 def main():
@@ -77,8 +82,9 @@ def main():
     with h5py.File(os.path.join(run, "result.h5"), "r") as h5:
         if "series" in h5:
             series_plots(run, h5)
-        if "steady" in h5 and len(h5["steady"]["friction"]) > 1:
-            sweep_plots(run, h5)
+        several = "steady" in h5 and len(h5["steady"]["friction"]) > 1
+    if several:
+        sweep_plots(run)
 
 
 if __name__ == "__main__":

@@ -48,7 +48,7 @@ def triaxial_figure(run, s, title):
     a.semilogy(ed, np.maximum(s["granular_temperature"][shear], 1e-30), "r")
     a.set(xlabel="ε_d", ylabel="T [m²/s²]", title="granular temperature T and r_c")
     b = a.twinx()
-    b.plot(ed, s["yield_size"][shear] / 1e3, "k")
+    b.plot(ed, s["locus_size"][shear] / 1e3, "k")
     b.set_ylabel("r_c [kPa] (black)")
     a = ax[1, 1]
     a.plot(ed, s["pore_pressure"][shear] / 1e3, "b", label="u_w")
@@ -74,7 +74,7 @@ def reconsolidation_figure(run, s):
     fig, ax = plt.subplots(1, 3, figsize=(15, 4))
     ax[0].loglog(t, np.maximum(s["granular_temperature"][stage], 1e-30), "r")
     ax[0].set(xlabel="time since the rate drop [s]", ylabel="T [m²/s²]", title="T decays")
-    ax[1].semilogx(t, s["yield_size"][stage] / 1e3, "k", label="r_c")
+    ax[1].semilogx(t, s["locus_size"][stage] / 1e3, "k", label="r_c")
     ax[1].semilogx(t, s["effective_pressure"][stage] / 1e3, "g", label="p'")
     ax[1].semilogx(t, s["pore_pressure"][stage] / 1e3, "b", label="u_w")
     ax[1].semilogx(t, s["collisional_pressure"][stage] / 1e3, "r", label="p_COL")

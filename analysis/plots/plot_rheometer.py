@@ -130,14 +130,14 @@ def fields(run):
     times = []
     for f in files:
         with h5py.File(f, "r") as h5:
-            times.append(float(h5.attrs["time"][0]))
+            times.append(float(np.ravel(h5.attrs["time"])[0]))
     times = np.array(times)
     wanted = [6e-4, 1.2e-3, 2.5e-3, times[-1]]
     picks = [files[i] for i in sorted(set(int(np.argmin(np.abs(times - w))) for w in wanted))]
     fig, axes = plt.subplots(2, len(picks), figsize=(3.6 * len(picks), 7), squeeze=False)
     for k, f in enumerate(picks):
         with h5py.File(f, "r") as h5:
-            t = h5.attrs["time"][0]
+            t = float(np.ravel(h5.attrs["time"])[0])
             xy = h5["solid"]["xy"][:]
             rc = h5["solid"]["r_c"][:] if "r_c" in h5["solid"] else np.zeros(len(xy))
             n = h5["solid"]["porosity"][:]

@@ -16,9 +16,13 @@
     run.steady()                     # the /steady table with the swept case keys as columns
 
 A table is what granflow writes as one: the one-dimensional datasets of an HDF5 group that share
-the group's most common length, one column each, in the file's order. Every dataset granflow
-writes carries `unit` and `description` attributes; they are read, never repeated here. Strings
-are returned as str (fixed-length ASCII/UTF-8 in the file).
+the group's most common length, one column each, in the order of the group's `columns`
+attribute when it has one (else the file's order). Every dataset granflow writes carries `unit`
+and `description` attributes, and /steady lists its columns and the swept case keys
+(`columns`, `sweep_keys`); they are read, never repeated here (docs/results.md). Strings are
+returned as str (variable-length UTF-8 since schema_version 2; older files' fixed-length
+strings are decoded too); run.schema_version is the file's vocabulary version (1 before the
+attribute existed).
 
 As a program (no pandas needed for --list):
     granflow_results.py RUN_DIR            print each table's name, rows and columns with units
@@ -38,10 +42,11 @@ __all__ = ["Run", "open_run"]
 
 
 def _text(value):
-    """An HDF5 attribute or string element as str (granflow writes fixed-length strings)."""
+    """An HDF5 attribute or string element as str (variable-length UTF-8 since schema_version 2,
+    fixed-length bytes before)."""
     if isinstance(value, bytes):
         return value.decode("utf-8", errors="replace").rstrip("\x00")
-    if isinstance(value, np.ndarray) and value.dtype.kind == "S":
+    if isinstance(value, np.ndarray) and value.dtype.kind in "SO":
         return [_text(v) for v in value.tolist()]
     if isinstance(value, np.generic):
         return value.item()
@@ -98,6 +103,7 @@ class Run:
         self.test = str(self.case.get("test", ""))
         self.name = str(self.case.get("name", attrs.get("case_name", "")))
         self.attributes = attrs
+        self.schema_version = int(attrs.get("schema_version", 1))
 
     def _visit(self, name, obj):
         if isinstance(obj, h5py.Group):
@@ -124,7 +130,10 @@ class Run:
         columns, units, descriptions = {}, {}, {}
         with h5py.File(self.result_file, "r", locking=False) as h5:
             g = h5[group]
-            for key, d in g.items():
+            order = [_text(c) for c in g.attrs["columns"]] if "columns" in g.attrs else []
+            keys = [k for k in order if k in g] + [k for k in g if k not in order]
+            for key in keys:
+                d = g[key]
                 if isinstance(d, h5py.Dataset) and d.ndim == 1 and len(d) == length:
                     columns[key] = _column(d)
                     units[key] = _text(d.attrs.get("unit", ""))
@@ -186,8 +195,20 @@ class Run:
 
     def steady(self):
         """The /steady table (one row per condition) with the swept case keys as columns where
-        the table does not already carry them."""
+        the table does not already carry them: from /conditions/N's attributes for the keys the
+        file lists in /steady's `sweep_keys`, else from case.yaml's `sweep:`."""
         df = self.table("/steady")
+        keys = df.attrs["attributes"].get("sweep_keys")
+        if keys is not None and len(keys) > 0:
+            with h5py.File(self.result_file, "r", locking=False) as h5:
+                for key in keys:
+                    if key in df.columns or key.split(".")[-1] in df.columns:
+                        continue
+                    values = [h5[f"conditions/{n}"].attrs.get(key, np.nan)
+                              if f"conditions/{n}" in h5 else np.nan for n in range(len(df))]
+                    df[key] = values
+                    df.attrs["units"][key] = "case key"
+            return df
         conditions = self.conditions()
         if conditions and len(conditions) == len(df):
             for key in conditions[0]:

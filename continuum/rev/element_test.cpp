@@ -54,7 +54,7 @@ void record(ElementSeries& s, double time, double eps_d, double eps_v, double ep
   s.collisional_pressure.push_back(parts.collisional_pressure);
   s.pore_pressure.push_back(pore_pressure);
   s.granular_temperature.push_back(state.granular_temperature);
-  s.yield_size.push_back(state.force_chains.r_c);
+  s.locus_size.push_back(state.force_chains.r_c);
   s.void_ratio.push_back(1.0 / state.solid_fraction - 1.0);
   s.fluidized.push_back(state.force_chains.fluidized ? 1.0 : 0.0);
   s.yield_value.push_back(yield_value);
@@ -74,7 +74,7 @@ double log_drift(const std::vector<double>& y, const std::vector<double>& eps_d,
 
 void check_state(long step, const PointState& state, const StressParts& parts) {
   core::check_finite(state.granular_temperature, step, "REV point", "granular_temperature", true);
-  core::check_finite(state.force_chains.r_c, step, "REV point", "yield_size r_c", true);
+  core::check_finite(state.force_chains.r_c, step, "REV point", "locus_size r_c", true);
   core::check_finite(state.solid_fraction, step, "REV point", "solid_fraction", true);
   core::check_finite(parts.force_chain.norm() + parts.collisional.norm() + parts.liquid.norm(),
                      step, "REV point", "stress");

@@ -56,7 +56,7 @@ struct TriaxialControl {
 struct ElementSeries {
   std::vector<double> time, deviatoric_strain, volumetric_strain, axial_strain, q, q_force_chain,
       q_collisional, q_liquid, mean_stress, effective_pressure, collisional_pressure, pore_pressure,
-      granular_temperature, yield_size, void_ratio, fluidized, yield_value, stage,
+      granular_temperature, locus_size, void_ratio, fluidized, yield_value, stage,
       collisional_dissipation, liquid_dissipation;  // Γ, Λ (W/m³)
 };
 

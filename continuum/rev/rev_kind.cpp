@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "continuum/sections/model_sections.hpp"
+#include "continuum/rev/rev_columns.hpp"
 #include "continuum/rev/simple_shear.hpp"
 #include "core/sweep_scheduler.hpp"
 
@@ -166,37 +167,14 @@ SimpleShearControl read_control(const core::Case& c) {
 }
 
 void write_series(core::ResultFile& out, const std::string& group, const SimpleShearSeries& s) {
-  out.write(group + "/time", s.time, "s", "time");
-  out.write(group + "/strain", s.strain, "1", "shear strain γ");
-  out.write(group + "/time_step", s.time_step, "s", "time step Δt");
-  out.write(group + "/granular_temperature", s.granular_temperature, "m^2/s^2",
-            "granular temperature T");
-  out.write(group + "/void_ratio", s.void_ratio, "1", "void ratio e");
-  out.write(group + "/solid_fraction", s.solid_fraction, "1", "solid fraction ν");
-  out.write(group + "/pressure", s.pressure, "Pa",
-            "normal stress on the grains p (constant pressure: σ_yy; constant volume: p_COL + p')");
-  out.write(group + "/shear_stress", s.shear_stress, "Pa", "shear stress τ = τ_COL + τ_L");
-  out.write(group + "/collisional_shear_stress", s.collisional_shear_stress, "Pa", "τ_COL");
-  out.write(group + "/liquid_shear_stress", s.liquid_shear_stress, "Pa", "τ_L = η(ν) γ̇");
-  out.write(group + "/friction", s.friction, "1", "stress ratio μ = τ/p");
-  out.write(group + "/inertial_number", s.inertial_number, "1", "I = γ̇ d / sqrt(p/ρ_p)");
-  out.write(group + "/force_chain_shear_stress", s.force_chain_shear_stress, "Pa", "τ_FC");
-  out.write(group + "/effective_pressure", s.effective_pressure, "Pa", "p' = p_FC");
-  out.write(group + "/yield_size", s.yield_size, "Pa", "r_c of the force chains");
-  out.write(group + "/normal_stress", s.normal_stress, "Pa", "σ_yy = σ_yy,FC + σ_yy,COL + σ_yy,L");
-  out.write(group + "/force_chain_normal_stress", s.force_chain_normal_stress, "Pa", "σ_yy,FC");
-  out.write(group + "/collisional_pressure", s.collisional_pressure, "Pa", "p_COL");
-  out.write(group + "/vertical_strain_rate", s.vertical_strain_rate, "1/s",
-            "ε̇_yy (compression positive; mixed control only, else 0)");
+  for (const RevSeriesColumn& c : rev_columns::simple_shear_series)
+    out.write(group, c.column, s.*c.values);
 }
 
 int run_simple_shear_case(core::RunContext& ctx) {
   const auto conditions = ctx.run_case.expand_sweep();
   const bool sweep = ctx.run_case.is_sweep();
-  struct Row {
-    double shear_rate, e, phi, T, p, tau, tau_col, tau_liq, mu, I, J, K, strain, reached, steps;
-  };
-  std::vector<Row> rows;
+  std::vector<SimpleShearRow> rows;
   long total_steps = 0;
   double min_dt = INFINITY, max_dt = 0, max_explicit_ratio = 0;
   core::Progress progress(ctx.log, "conditions", static_cast<double>(conditions.size()));
@@ -229,7 +207,7 @@ int run_simple_shear_case(core::RunContext& ctx) {
          {&ts.time, &ts.strain, &ts.time_step, &ts.granular_temperature, &ts.void_ratio,
           &ts.solid_fraction, &ts.pressure, &ts.shear_stress, &ts.collisional_shear_stress,
           &ts.liquid_shear_stress, &ts.friction, &ts.inertial_number, &ts.force_chain_shear_stress,
-          &ts.effective_pressure, &ts.yield_size, &ts.normal_stress, &ts.force_chain_normal_stress,
+          &ts.effective_pressure, &ts.locus_size, &ts.normal_stress, &ts.force_chain_normal_stress,
           &ts.collisional_pressure, &ts.vertical_strain_rate})
       packed.numbers(*v);
     const auto& st = r.steady;
@@ -241,7 +219,7 @@ int run_simple_shear_case(core::RunContext& ctx) {
                      st.pressure,
                      st.effective_pressure,
                      st.force_chain_shear_stress,
-                     st.yield_size,
+                     st.locus_size,
                      st.shear_stress,
                      st.collisional_shear_stress,
                      st.liquid_shear_stress,
@@ -282,7 +260,7 @@ int run_simple_shear_case(core::RunContext& ctx) {
          {&ts.time, &ts.strain, &ts.time_step, &ts.granular_temperature, &ts.void_ratio,
           &ts.solid_fraction, &ts.pressure, &ts.shear_stress, &ts.collisional_shear_stress,
           &ts.liquid_shear_stress, &ts.friction, &ts.inertial_number, &ts.force_chain_shear_stress,
-          &ts.effective_pressure, &ts.yield_size, &ts.normal_stress, &ts.force_chain_normal_stress,
+          &ts.effective_pressure, &ts.locus_size, &ts.normal_stress, &ts.force_chain_normal_stress,
           &ts.collisional_pressure, &ts.vertical_strain_rate})
       *v = packed.numbers();
     auto& s = r.steady;
@@ -294,7 +272,7 @@ int run_simple_shear_case(core::RunContext& ctx) {
                       &s.pressure,
                       &s.effective_pressure,
                       &s.force_chain_shear_stress,
-                      &s.yield_size,
+                      &s.locus_size,
                       &s.shear_stress,
                       &s.collisional_shear_stress,
                       &s.liquid_shear_stress,
@@ -331,10 +309,11 @@ int run_simple_shear_case(core::RunContext& ctx) {
                     label, s.strain, r.steps);
     const double alpha = c.number("liquid.trulsson_alpha");
     const double K = s.viscous_number + alpha * s.inertial_number * s.inertial_number;
+    const double d_rate = c.number("material.diameter") * control.shear_rate;
     rows.push_back({control.shear_rate, s.void_ratio, s.solid_fraction, s.granular_temperature,
-                    s.pressure, s.shear_stress, s.collisional_shear_stress, s.liquid_shear_stress,
-                    s.friction, s.inertial_number, s.viscous_number, K, s.strain,
-                    s.reached ? 1.0 : 0.0, static_cast<double>(r.steps)});
+                    s.granular_temperature / (d_rate * d_rate), s.pressure, s.normal_stress,
+                    s.shear_stress, s.collisional_shear_stress, s.liquid_shear_stress, s.friction,
+                    s.inertial_number, s.viscous_number, K, s.strain, s.reached ? 1L : 0L});
     ctx.log->info(
         "{}: steady after strain {:.4g} ({} steps): e = {:.6g}, T = {:.6g} m²/s², "
         "p = {:.6g} Pa, τ = {:.6g} Pa, μ = {:.6g}, I = {:.6g}{}",
@@ -371,7 +350,7 @@ int run_simple_shear_case(core::RunContext& ctx) {
       sum.set("steady.p_eff" + suffix, s.effective_pressure);
       sum.set("steady.sigma_yy_fc" + suffix, s.force_chain_normal_stress);
       sum.set("steady.fluidized" + suffix, s.fluidized ? 1 : 0);
-      sum.set("final.r_c" + suffix, s.yield_size);
+      sum.set("final.r_c" + suffix, s.locus_size);
     }
     if (settings.force_chains && control.control == ShearControl::constant_pressure) {
       sum.set("accuracy.normal_stress_residual_max" + suffix, r.max_normal_stress_residual);
@@ -409,32 +388,31 @@ int run_simple_shear_case(core::RunContext& ctx) {
   if (!core::run_conditions(ctx, conditions.size(), compute, absorb))
     return core::exit_ok;  // another rank than 0: rank 0 writes the tables and plots
 
-  // Steady table (one row per condition).
-  auto column = [&](auto member) {
-    std::vector<double> v;
-    for (const auto& row : rows) v.push_back(row.*member);
-    return v;
-  };
+  // Steady table (one row per condition; rev_columns.hpp).
   auto& out = ctx.result;
-  out.write("/steady/shear_rate", column(&Row::shear_rate), "1/s", "imposed shear rate γ̇");
-  out.write("/steady/void_ratio", column(&Row::e), "1", "steady void ratio e");
-  out.write("/steady/solid_fraction", column(&Row::phi), "1", "steady solid fraction ν");
-  out.write("/steady/granular_temperature", column(&Row::T), "m^2/s^2", "steady T");
-  out.write("/steady/pressure", column(&Row::p), "Pa", "steady normal stress on the grains p");
-  out.write("/steady/shear_stress", column(&Row::tau), "Pa", "steady shear stress τ");
-  out.write("/steady/collisional_shear_stress", column(&Row::tau_col), "Pa", "τ_COL");
-  out.write("/steady/liquid_shear_stress", column(&Row::tau_liq), "Pa", "τ_L");
-  out.write("/steady/friction", column(&Row::mu), "1", "μ = τ/p");
-  out.write("/steady/inertial_number", column(&Row::I), "1", "I = γ̇ d / sqrt(p/ρ_p)");
-  out.write("/steady/viscous_number", column(&Row::J), "1", "J = η0 γ̇ / p (0 when dry)");
-  out.write("/steady/unified_number", column(&Row::K), "1", "K = J + α I²");
-  out.write("/steady/steady_strain", column(&Row::strain), "1", "strain at steady state");
-  out.write("/steady/reached", column(&Row::reached), "1", "1 if a steady state was detected");
+  std::vector<std::string> column_names;
+  for (const RevSteadyColumn& col : rev_columns::simple_shear_steady) {
+    if (col.flag) {
+      std::vector<long> v;
+      for (const auto& row : rows) v.push_back(row.*col.flag);
+      out.write("/steady", col.column, v);
+    } else {
+      std::vector<double> v;
+      for (const auto& row : rows) v.push_back(row.*col.value);
+      out.write("/steady", col.column, v);
+    }
+    column_names.push_back(col.column.name);
+  }
   const auto& c0 = ctx.run_case;
+  out.attribute("/steady", "columns", column_names);
+  std::vector<std::string> sweep_keys;
+  if (!conditions.empty())
+    for (const auto& [key, value] : conditions.front().condition()) sweep_keys.push_back(key);
+  out.attribute("/steady", "sweep_keys", sweep_keys);
   out.attribute("/steady", "diameter", c0.number("material.diameter"));
   out.attribute("/steady", "particle_density", c0.number("material.particle_density"));
-  out.attribute("/steady", "liquid_enabled", c0.boolean("liquid.enabled") ? 1.0 : 0.0);
-  out.attribute("/steady", "liquid_viscosity", c0.number("liquid.viscosity"));
+  out.attribute("/steady", "liquid_enabled", c0.boolean("liquid.enabled") ? 1L : 0L);
+  out.attribute("/steady", core::columns::liquid_viscosity.name, c0.number("liquid.viscosity"));
 
   const double wall = ctx.wall_seconds();
   ctx.summary.set("cost.steps", static_cast<double>(total_steps));

@@ -213,7 +213,7 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
     series.inertial_number.push_back(p > 0 ? gamma_dot * d / std::sqrt(p / rho_p) : INFINITY);
     series.force_chain_shear_stress.push_back(tau_fc);
     series.effective_pressure.push_back(p_eff);
-    series.yield_size.push_back(state.force_chains.r_c);
+    series.locus_size.push_back(state.force_chains.r_c);
     series.normal_stress.push_back(total(1, 1));
     series.force_chain_normal_stress.push_back(parts.force_chain(1, 1));
     series.collisional_pressure.push_back(parts.collisional_pressure);
@@ -263,7 +263,7 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
       s.liquid_shear_stress = tau_liq;
       s.force_chain_shear_stress = tau_fc;
       s.effective_pressure = p_eff;
-      s.yield_size = state.force_chains.r_c;
+      s.locus_size = state.force_chains.r_c;
       s.friction = series.friction.back();
       s.inertial_number = series.inertial_number.back();
       s.viscous_number =

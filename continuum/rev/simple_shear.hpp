@@ -40,7 +40,7 @@ struct SimpleShearControl {
 struct SimpleShearSeries {
   std::vector<double> time, strain, time_step, granular_temperature, void_ratio, solid_fraction,
       pressure, shear_stress, collisional_shear_stress, liquid_shear_stress, friction,
-      inertial_number, force_chain_shear_stress, effective_pressure, yield_size;
+      inertial_number, force_chain_shear_stress, effective_pressure, locus_size;
   // σ_yy of the grains (σ_FC + σ_COL + σ_L), its σ_FC part, p_COL and ε̇_yy (compression
   // positive; 0 except at constant pressure with force chains).
   std::vector<double> normal_stress, force_chain_normal_stress, collisional_pressure,
@@ -54,7 +54,7 @@ struct SimpleShearSteady {
   // Granular normal stress, Pa: constant volume p_COL + p'; constant pressure σ_yy (= the
   // imposed p; without force chains σ_yy = p_COL).
   double pressure = 0;
-  double effective_pressure = 0, force_chain_shear_stress = 0, yield_size = 0;     // σ_FC part
+  double effective_pressure = 0, force_chain_shear_stress = 0, locus_size = 0;     // σ_FC part
   double shear_stress = 0, collisional_shear_stress = 0, liquid_shear_stress = 0;  // Pa
   double friction = 0;                                                             // μ = τ/p
   double inertial_number = 0;  // I = γ̇ d / sqrt(p/ρ_p)

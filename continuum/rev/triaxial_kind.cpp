@@ -9,6 +9,7 @@
 #include "continuum/rev/element_test.hpp"
 #include "continuum/rev/rev_kind.hpp"
 #include "core/interrupt.hpp"
+#include "core/result_columns.hpp"
 
 namespace granflow::rev {
 
@@ -218,17 +219,20 @@ void write_series(core::ResultFile& out, const std::string& g, const ElementSeri
   out.write(g + "/q_force_chain", s.q_force_chain, "Pa", "q of σ_FC");
   out.write(g + "/q_collisional", s.q_collisional, "Pa", "q of σ_COL");
   out.write(g + "/q_liquid", s.q_liquid, "Pa", "q of σ_L");
-  out.write(g + "/mean_stress", s.mean_stress, "Pa", "total mean stress p");
+  out.write(g, core::columns::described(core::columns::mean_stress, "total mean stress p = tr(σ)/3"),
+            s.mean_stress);
   out.write(g + "/effective_pressure", s.effective_pressure, "Pa", "p' = p_FC");
   out.write(g + "/collisional_pressure", s.collisional_pressure, "Pa", "p_COL");
   out.write(g + "/pore_pressure", s.pore_pressure, "Pa", "u_w");
-  out.write(g + "/granular_temperature", s.granular_temperature, "m^2/s^2", "T");
-  out.write(g + "/yield_size", s.yield_size, "Pa", "r_c");
-  out.write(g + "/void_ratio", s.void_ratio, "1", "e");
-  out.write(g + "/fluidized", s.fluidized, "1", "1 when σ_FC = 0 (r_c = 0)");
+  out.write(g, core::columns::granular_temperature, s.granular_temperature);
+  out.write(g, core::columns::locus_size, s.locus_size);
+  out.write(g, core::columns::void_ratio, s.void_ratio);
+  // Flags as integers.
+  auto integers = [](const std::vector<double>& v) { return std::vector<long>(v.begin(), v.end()); };
+  out.write(g + "/fluidized", integers(s.fluidized), "1", "1 when σ_FC = 0 (r_c = 0)");
   out.write(g + "/yield_value", s.yield_value, "1",
             "f at the end of the step (<= FTOL when solid)");
-  out.write(g + "/stage", s.stage, "1", "0 = shearing, 1 = reconsolidation");
+  out.write(g + "/stage", integers(s.stage), "1", "0 = shearing, 1 = reconsolidation");
   out.write(g + "/collisional_dissipation", s.collisional_dissipation, "W/m^3",
             "Γ, collisional dissipation of T");
   out.write(g + "/liquid_dissipation", s.liquid_dissipation, "W/m^3",
@@ -332,7 +336,7 @@ int run_triaxial_case(core::RunContext& ctx) {
             control.stages[0].steady_tolerance);
     }
     sum.set("peak.q" + suffix, *std::max_element(s.q.begin(), s.q.begin() + shear_end));
-    sum.set("final.r_c" + suffix, s.yield_size[last]);
+    sum.set("final.r_c" + suffix, s.locus_size[last]);
     sum.set("final.T" + suffix, s.granular_temperature[last]);
     sum.set("final.e" + suffix, s.void_ratio[last]);
     sum.set("final.p_eff" + suffix, s.effective_pressure[last]);
@@ -349,7 +353,7 @@ int run_triaxial_case(core::RunContext& ctx) {
     }
     if (control.stages.size() > 1) {
       sum.set("shear_end.T" + suffix, s.granular_temperature[shear_end - 1]);
-      sum.set("shear_end.r_c" + suffix, s.yield_size[shear_end - 1]);
+      sum.set("shear_end.r_c" + suffix, s.locus_size[shear_end - 1]);
       sum.set("shear_end.u_w" + suffix, s.pore_pressure[shear_end - 1]);
       if (r.resolidification_time >= 0)
         sum.set("reconsolidation.time" + suffix, r.resolidification_time - s.time[shear_end - 1]);
@@ -371,7 +375,7 @@ int run_triaxial_case(core::RunContext& ctx) {
         tail_mean(s.q_force_chain, window, shear_end),
         tail_mean(s.q_collisional, window, shear_end), tail_mean(s.q_liquid, window, shear_end),
         s.void_ratio[last], s.effective_pressure[last], s.pore_pressure[last],
-        s.granular_temperature[last], s.yield_size[last]);
+        s.granular_temperature[last], s.locus_size[last]);
     total_steps += r.steps;
     total_evaluations += r.solver_evaluations;
     max_residual = std::max(max_residual, r.max_radial_residual);
@@ -427,7 +431,7 @@ int run_triaxial_case(core::RunContext& ctx) {
     ctx.result.write("/sweep/q_col_over_q_liq", ratio, "1", "residual q_COL / q_L");
     ctx.result.write("/sweep/liquid_dissipation_share", lambda_share, "1",
                      "Λ / (Γ + Λ) over the residual window");
-    ctx.result.write("/sweep/steady", steady, "1",
+    ctx.result.write("/sweep/steady", std::vector<long>(steady.begin(), steady.end()), "1",
                      "1: residual steady within loading.steady_tolerance, 0: not, -1: unchecked");
   }
   if (sweep) ctx.summary.set("sweep.count", static_cast<double>(conditions.size()));
@@ -461,7 +465,7 @@ int run_isotropic_case(core::RunContext& ctx) {
   const std::size_t last = s.time.size() - 1;
   ctx.summary.set("final.p_eff", s.effective_pressure[last]);
   ctx.summary.set("final.e", s.void_ratio[last]);
-  ctx.summary.set("final.r_c", s.yield_size[last]);
+  ctx.summary.set("final.r_c", s.locus_size[last]);
   ctx.summary.set("final.T", s.granular_temperature[last]);
   ctx.summary.set("final.eps_v", s.volumetric_strain[last]);
   ctx.log->info("isotropic compression: ε_v = {:.4g}: p' {:.5g} -> {:.5g} Pa, e {:.5g} -> {:.5g}",

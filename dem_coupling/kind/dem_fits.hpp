@@ -17,6 +17,7 @@
 #include <set>
 #include <span>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -189,7 +190,7 @@ inline std::string dry_fit_log_line(const InertialLawFit& d) {
 }
 
 // Writes /fits (docs/dem_dataset.md) through `sink`, which has the ResultFile interface:
-// attribute(group, name, double) and write(path, values, unit, description).
+// attribute(group, name, double / long / string) and write(path, values, unit, description).
 template <class Sink>
 void write_dem_fits(const DemFits& f, const DemSteadyTable& t, Sink& sink) {
   auto fit_values = [](const std::vector<double>& x, auto law) {
@@ -207,7 +208,14 @@ void write_dem_fits(const DemFits& f, const DemSteadyTable& t, Sink& sink) {
     sink.attribute(g, "law_reference", std::string(text.reference));
     sink.attribute(g, "friction_law", std::string(text.friction_formula));
     sink.attribute(g, "solid_fraction_law", std::string(text.solid_fraction_formula));
-    for (const auto& [name, value] : dry_fit_numbers(d)) sink.attribute(g, name, value);
+    for (const auto& [name, value] : dry_fit_numbers(d)) {
+      const std::string_view n = name;
+      if (n == "points" || n == "law_peyneau_roux" || n.ends_with("_dof") ||
+          n.ends_with("_at_bound"))  // counts and flags as integers
+        sink.attribute(g, name, static_cast<long>(value));
+      else
+        sink.attribute(g, name, value);
+    }
     if (const auto pub = published_dem_law(d.particle_friction)) {
       sink.attribute(g, "published_mu_s_low", pub->mu_s_low);
       sink.attribute(g, "published_mu_s_high", pub->mu_s_high);
@@ -245,9 +253,9 @@ void write_dem_fits(const DemFits& f, const DemSteadyTable& t, Sink& sink) {
     sink.attribute(g, names[j], m.value(j));
     sink.attribute(g, std::string(names[j]) + "_err", m.error(j));
   }
-  sink.attribute(g, "points", double(m.viscous.size()));
+  sink.attribute(g, "points", static_cast<long>(m.viscous.size()));
   sink.attribute(g, "mu_chi2_red", m.mu.chi2_red);
-  sink.attribute(g, "mu_dof", double(m.mu.dof));
+  sink.attribute(g, "mu_dof", static_cast<long>(m.mu.dof));
   sink.attribute(g, "mu_max_residual", m.mu.max_abs_residual());
   const bool phi_ok = m.phi.estimate.size() == 2;
   sink.attribute(g, "phi_m", phi_ok ? m.phi.estimate[0] : NAN);
@@ -255,7 +263,7 @@ void write_dem_fits(const DemFits& f, const DemSteadyTable& t, Sink& sink) {
   sink.attribute(g, "b", phi_ok ? m.phi.estimate[1] : NAN);
   sink.attribute(g, "b_err", phi_ok ? m.phi.standard_error[1] : NAN);
   sink.attribute(g, "phi_chi2_red", m.phi.chi2_red);
-  sink.attribute(g, "phi_dof", double(m.phi.dof));
+  sink.attribute(g, "phi_dof", static_cast<long>(m.phi.dof));
   if (m.mu.estimate.size()) {
     std::vector<double> k;
     for (std::size_t i = 0; i < m.viscous.size(); ++i) k.push_back(m.mixed_number(i));
@@ -269,7 +277,7 @@ void write_dem_fits(const DemFits& f, const DemSteadyTable& t, Sink& sink) {
   const std::string b = "/fits/boyer_split";
   const ViscousSplit& s = f.split;
   sink.attribute(b, "viscous_stokes_limit", viscous_stokes_limit);
-  sink.attribute(b, "viscous_points", double(s.viscous_points));
+  sink.attribute(b, "viscous_points", static_cast<long>(s.viscous_points));
   sink.attribute(b, "contact_chi2_per_point", s.contact_chi2_per_point);
   sink.attribute(b, "lubrication_share_of_hydrodynamic", s.lubrication_share_of_hydrodynamic);
   sink.write(b + "/stokes_number", t.stokes, "1", "St per condition (sweep order)");

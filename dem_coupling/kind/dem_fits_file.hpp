@@ -1,5 +1,6 @@
 // Re-deriving the fits of an existing DEM run (`granflow report RUN_DIR`, analysis/report.cpp):
-// read the steady table of result.h5 (schema v1, docs/dem_dataset.md) and rewrite its /fits group.
+// read the steady table of result.h5 (docs/results.md) and rewrite its /fits group
+// (core::ResultFile opened in append mode).
 // Runs written before τ_contact/σ_yy was tabulated get it from /conditions/N/series (tau_contact,
 // tau_lub, sigma_yy) over the steady part recorded in /conditions/N/steady (start_strain).
 // Header-only (see statistics/least_squares.hpp).
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "core/file_io.hpp"
+#include "dem_coupling/kind/dem_columns.hpp"
 #include "dem_coupling/kind/dem_fits.hpp"
 
 namespace granflow::dem {
@@ -63,17 +65,19 @@ inline double number_attribute(H5::H5Object& object, const std::string& name) {
 
 }  // namespace fits_file_detail
 
-// τ_part/σ_yy of condition group g from its series over its recorded steady part.
+// τ_part/σ_yy of condition group g from its series over its recorded steady part; `part` is a
+// series.tsv column (kind/dem_columns.hpp).
 inline StressRatio series_stress_ratio(H5::H5File& f, const std::string& g, const char* part) {
   using namespace fits_file_detail;
-  if (!path_exists(f, g + "/series/" + part) || !path_exists(f, g + "/steady")) return {};
+  const std::string series = g + "/series/";
+  if (!path_exists(f, series + dem_series_name(part)) || !path_exists(f, g + "/steady")) return {};
   H5::Group steady = f.openGroup(g + "/steady");
-  const double start_strain = number_attribute(steady, "start_strain");
-  const auto strain = read(f, g + "/series/strain");
+  const double start_strain = number_attribute(steady, dem_steady_name("start_strain"));
+  const auto strain = read(f, series + dem_series_name("strain"));
   const std::size_t start = static_cast<std::size_t>(
       std::lower_bound(strain.begin(), strain.end(), start_strain - 1e-12) - strain.begin());
-  return stress_ratio_of_series(read(f, g + "/series/" + part), read(f, g + "/series/sigma_yy"),
-                                start);
+  return stress_ratio_of_series(read(f, series + dem_series_name(part)),
+                                read(f, series + dem_series_name("sigma_yy")), start);
 }
 
 // A sweep that has not written /steady yet (still running, or interrupted): one row per
@@ -86,19 +90,19 @@ inline DemSteadyTable steady_table_from_conditions(H5::H5File& f, double total_s
   for (std::size_t n = 0; path_exists(f, fmt::format("/conditions/{}", n)); ++n) {
     const std::string g = fmt::format("/conditions/{}", n);
     H5::Group group = f.openGroup(g);
-    const bool wet = group.attrExists("viscosity");
+    const bool wet = group.attrExists("liquid_viscosity");
     t.wet = t.wet || wet;
     t.particle_friction.push_back(number_attribute(group, "particle_friction"));
     double v[6] = {nan, nan, nan, nan, nan, nan};
     double w[5] = {nan, nan, nan, nan, nan};
     if (path_exists(f, g + "/steady")) {
       H5::Group steady = f.openGroup(g + "/steady");
-      const double end = number_attribute(steady, "end_strain");
+      const double end = number_attribute(steady, dem_steady_name("end_strain"));
       if (std::isfinite(end) && !(end < 0.98 * total_strain)) {
-        const char* names[] = {"I", "I_err", "mu", "mu_err", "phi", "phi_err"};
-        for (int k = 0; k < 6; ++k) v[k] = number_attribute(steady, names[k]);
-        const char* wet_names[] = {"St", "J", "J_err"};
-        for (int k = 0; k < 3; ++k) w[k] = number_attribute(steady, wet_names[k]);
+        const char* keys[] = {"I", "I_err", "mu", "mu_err", "phi", "phi_err"};
+        for (int k = 0; k < 6; ++k) v[k] = number_attribute(steady, dem_steady_name(keys[k]));
+        const char* wet_keys[] = {"St", "J", "J_err"};
+        for (int k = 0; k < 3; ++k) w[k] = number_attribute(steady, dem_steady_name(wet_keys[k]));
       }
     }
     t.inertial.push_back(v[0]), t.inertial_err.push_back(v[1]);
@@ -131,35 +135,38 @@ inline DemSteadyTable read_dem_steady_table(
     double total_strain = std::numeric_limits<double>::quiet_NaN()) {
   using namespace fits_file_detail;
   H5::H5File f = open_h5(file, H5F_ACC_RDONLY);
-  if (!path_exists(f, "/steady/particle_friction") && path_exists(f, "/conditions/0"))
+  namespace c = core::columns;
+  if (!path_exists(f, std::string("/steady/") + c::particle_friction.name) &&
+      path_exists(f, "/conditions/0"))
     return steady_table_from_conditions(f, total_strain);
   auto column = [&](const std::string& name) {
     const std::string path = "/steady/" + name;
     if (!path_exists(f, path))
       throw std::runtime_error(
-          fmt::format("{}: no dataset {} (expected a DEM result.h5, schema "
-                      "v1, docs/dem_dataset.md)",
+          fmt::format("{}: no dataset {} (expected a DEM result.h5, docs/results.md)",
                       file.string(), path));
     return read(f, path);
   };
+  // The /steady names of kind/dem_columns.hpp, by the keys of the steady values.
+  auto steady = [&](const char* key) { return column(dem_steady_name(key)); };
   DemSteadyTable t;
-  t.particle_friction = column("particle_friction");
-  t.inertial = column("inertial_number");
-  t.inertial_err = column("inertial_number_err");
-  t.friction = column("friction");
-  t.friction_err = column("friction_err");
-  t.solid_fraction = column("solid_fraction");
-  t.solid_fraction_err = column("solid_fraction_err");
-  t.wet = path_exists(f, "/steady/viscous_number");
+  t.particle_friction = column(c::particle_friction.name);
+  t.inertial = steady("I");
+  t.inertial_err = steady("I_err");
+  t.friction = steady("mu");
+  t.friction_err = steady("mu_err");
+  t.solid_fraction = steady("phi");
+  t.solid_fraction_err = steady("phi_err");
+  t.wet = path_exists(f, "/steady/" + dem_steady_name("J"));
   if (!t.wet) return t;
-  t.stokes = column("stokes_number");
-  t.viscous = column("viscous_number");
-  t.viscous_err = column("viscous_number_err");
-  if (path_exists(f, "/steady/friction_contact")) {
-    t.friction_contact = column("friction_contact");
-    t.friction_contact_err = column("friction_contact_err");
-    t.friction_lubrication = column("friction_lubrication");
-    t.friction_lubrication_err = column("friction_lubrication_err");
+  t.stokes = steady("St");
+  t.viscous = steady("J");
+  t.viscous_err = steady("J_err");
+  if (path_exists(f, "/steady/" + dem_steady_name("mu_contact"))) {
+    t.friction_contact = steady("mu_contact");
+    t.friction_contact_err = steady("mu_contact_err");
+    t.friction_lubrication = steady("mu_lub");
+    t.friction_lubrication_err = steady("mu_lub_err");
     return t;
   }
   // Older runs: from the series, over the recorded steady part.
@@ -177,65 +184,5 @@ inline DemSteadyTable read_dem_steady_table(
   }
   return t;
 }
-
-// A result.h5 opened for appending (/fits rewritten): the two calls of write_dem_fits' sink.
-class AppendedResultFile {
- public:
-  explicit AppendedResultFile(const std::filesystem::path& file)
-      : file_(fits_file_detail::open_h5(file, H5F_ACC_RDWR)) {}
-  ~AppendedResultFile() {
-    try {
-      file_.flush(H5F_SCOPE_GLOBAL);
-      file_.close();
-    } catch (...) {
-    }
-  }
-  void remove(const std::string& path) {
-    if (fits_file_detail::path_exists(file_, path))
-      H5Ldelete(file_.getId(), path.c_str(), H5P_DEFAULT);
-  }
-  void attribute(const std::string& group, const std::string& name, double value) {
-    H5::Group g = ensure(group);
-    if (g.attrExists(name)) g.removeAttr(name);
-    g.createAttribute(name, H5::PredType::NATIVE_DOUBLE, H5::DataSpace(H5S_SCALAR))
-        .write(H5::PredType::NATIVE_DOUBLE, &value);
-  }
-  void attribute(const std::string& group, const std::string& name, const std::string& value) {
-    H5::Group g = ensure(group);
-    if (g.attrExists(name)) g.removeAttr(name);
-    H5::StrType type(H5::PredType::C_S1, std::max<std::size_t>(value.size(), 1));
-    g.createAttribute(name, type, H5::DataSpace(H5S_SCALAR)).write(type, value);
-  }
-  void write(const std::string& path, const std::vector<double>& values, const std::string& unit,
-             const std::string& description) {
-    const auto slash = path.rfind('/');
-    H5::Group g = ensure(path.substr(0, slash));
-    const std::string leaf = path.substr(slash + 1);
-    if (g.nameExists(leaf)) g.unlink(leaf);
-    const hsize_t dims[1] = {values.size()};
-    H5::DataSet set = g.createDataSet(leaf, H5::PredType::NATIVE_DOUBLE, H5::DataSpace(1, dims));
-    if (!values.empty()) set.write(values.data(), H5::PredType::NATIVE_DOUBLE);
-    for (const auto& [key, text] :
-         {std::pair{"unit", unit}, std::pair{"description", description}}) {
-      H5::StrType type(H5::PredType::C_S1, std::max<std::size_t>(text.size(), 1));
-      set.createAttribute(key, type, H5::DataSpace(H5S_SCALAR)).write(type, text);
-    }
-  }
-
- private:
-  H5::Group ensure(const std::string& path) {
-    std::string sofar;
-    std::size_t pos = 1;
-    while (pos <= path.size()) {
-      const auto slash = path.find('/', pos);
-      sofar = path.substr(0, slash);
-      if (!fits_file_detail::path_exists(file_, sofar)) file_.createGroup(sofar);
-      if (slash == std::string::npos) break;
-      pos = slash + 1;
-    }
-    return file_.openGroup(path);
-  }
-  H5::H5File file_;
-};
 
 }  // namespace granflow::dem

@@ -9,6 +9,7 @@
 #include <span>
 
 #include "statistics/steady_state.hpp"
+#include "dem_coupling/kind/dem_columns.hpp"
 #include "dem_coupling/kind/dem_fits.hpp"
 #include "dem_coupling/kind/series_table.hpp"
 #include "dem_coupling/kind/steady_checks.hpp"
@@ -27,46 +28,6 @@ Steady steady_of(const std::vector<double>& series, std::size_t start) {
   return {e.mean, e.standard_error};
 }
 
-constexpr const char* series_units[][3] = {
-    {"step", "1", "LIGGGHTS time step number"},
-    {"time", "s", "time since the start of shear"},
-    {"strain", "1", "shear strain γ̇ t"},
-    {"ly", "m", "box height L_y"},
-    {"xy", "m", "tilt of the Lees-Edwards box"},
-    {"volume", "m^3", "box volume"},
-    {"Pvir_yy", "Pa", "contact (virial) normal stress P^vir_yy, compression positive"},
-    {"Pvir_xy", "Pa", "contact (virial) shear component P^vir_xy"},
-    {"Pkin_yy", "Pa", "kinetic normal stress about the profile"},
-    {"Pkin_xy", "Pa", "kinetic shear component about the profile"},
-    {"P_xx", "Pa", "total stress P_xx (compression positive)"},
-    {"P_yy", "Pa", "total stress P_yy"},
-    {"P_zz", "Pa", "total stress P_zz"},
-    {"P_xy", "Pa", "total stress P_xy"},
-    {"sigma_yy", "Pa", "normal stress σ_yy = P_yy"},
-    {"tau", "Pa", "shear stress τ = -P_xy"},
-    {"p", "Pa", "mean pressure tr(P)/3"},
-    {"mu", "1", "stress ratio μ = τ/σ_yy"},
-    {"T", "m^2/s^2", "granular temperature about the Lees-Edwards profile"},
-    {"phi", "1", "solid fraction φ"},
-    {"e", "1", "void ratio e = 1/φ - 1"},
-    {"I", "1", "inertial number γ̇ d / sqrt(σ_yy/ρ_p)"},
-    {"Z", "1", "coordination number 2 N_c / N"},
-    {"momentum_x", "kg m/s", "peculiar momentum Σ m (v_x - u_x(y))"},
-    {"momentum_y", "kg m/s", "momentum Σ m v_y"},
-    {"momentum_z", "kg m/s", "momentum Σ m v_z"},
-    {"profile_deviation", "1", "RMS deviation of the mean v_x profile from the line / (γ̇ L_y)"},
-    {"overlap", "m", "mean overlap <δ> of the touching pairs"},
-};
-
-// Immersed runs only: the shear-stress split (docs/dem_fluid.md; sums to tau).
-constexpr const char* wet_series_units[][3] = {
-    {"tau_contact", "Pa", "contact shear stress -P^vir_xy - τ_lub - τ_drag"},
-    {"tau_lub", "Pa", "lubrication shear stress -(P_lub,n,xy + P_lub,t,xy)"},
-    {"tau_drag", "Pa", "drag shear stress -P_drag,xy"},
-    {"tau_kin", "Pa", "kinetic shear stress -P^kin_xy"},
-    {"lubricated_pairs", "1", "number of pairs with h < h_max"},
-};
-
 }  // namespace
 
 PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& dir,
@@ -76,11 +37,11 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
   const SeriesTable t = read_series_table(dir / "series.tsv");
   auto& out = ctx.result;
   if (t.rows() > 0) {
-    for (const auto& [name, unit, doc] : series_units)
-      out.write(group + "/series/" + name, t.at(name), unit, doc);
+    for (const DemColumn& c : dem_columns::series)
+      out.write(group + "/series", c.column, t.at(c.key));
     if (p.wet.enabled)
-      for (const auto& [name, unit, doc] : wet_series_units)
-        out.write(group + "/series/" + name, t.at(name), unit, doc);
+      for (const DemColumn& c : dem_columns::wet_series)
+        out.write(group + "/series", c.column, t.at(c.key));
     const SeriesTable prof = read_series_table(dir / "profile.tsv", false);
     if (prof.rows() > 0 && prof.names.size() > 2) {
       const std::size_t bins = prof.names.size() - 2;
@@ -93,10 +54,10 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
       out.write(group + "/profile/strain", prof.at("1"), "1", "shear strain of each row");
     }
   }
-  out.attribute(group, "dt", deck.dt);
-  out.attribute(group, "dt_limit", deck.dt_limit);
+  out.attribute(group, dem_columns::time_step.name, deck.dt);
+  out.attribute(group, "time_step_limit", deck.dt_limit);
   if (p.wet.enabled) {
-    out.attribute(group, "viscosity", p.wet.viscosity);
+    out.attribute(group, core::columns::liquid_viscosity.name, p.wet.viscosity);
     out.attribute(group, "minimum_gap", p.wet.minimum_gap * p.material.diameter);
     out.attribute(group, "maximum_gap", p.wet.maximum_gap * p.material.diameter);
     out.attribute(group, "permeability", p.wet.permeability);
@@ -111,7 +72,7 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
   }
   out.attribute(group, "shear_rate", p.shear_rate);
   out.attribute(group, "mean_diameter", deck.mean_diameter);
-  out.attribute(group, "particles", double(p.particles));
+  out.attribute(group, "particles", static_cast<long>(p.particles));
   out.attribute(group, "particle_friction", p.material.particle_friction);
   out.attribute(group, "restitution", p.material.restitution);
   out.attribute(group, "control", p.constant_pressure ? "constant_pressure" : "constant_volume");
@@ -243,7 +204,13 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
     v["mu_lub"] = lub.value;
     v["mu_lub_err"] = lub.error;
   }
-  for (const auto& [name, value] : v) out.attribute(group + "/steady", name, value);
+  // Named as the /steady columns (kind/dem_columns.hpp); counts and flags as integers.
+  for (const auto& [key, value] : v) {
+    if (dem_steady_integer(key))
+      out.attribute(group + "/steady", dem_steady_name(key), std::lround(value));
+    else
+      out.attribute(group + "/steady", dem_steady_name(key), value);
+  }
   return r;
 }
 
@@ -302,18 +269,27 @@ void write_seed_statistics(core::RunContext& ctx, const std::vector<SeedGroup>& 
         mu.scatter_ratio, phi.scatter_ratio, p.scatter_ratio, t.scatter_ratio);
   }
   ctx.summary.set("seeds.groups", double(groups.size()));
-  for (const auto& [name, values] : columns) {
-    std::string unit = "1", doc = "swept key of the group";
+  // Named as the /steady columns (kind/dem_columns.hpp): NAME, NAME_err, NAME_within_err,
+  // NAME_scatter_ratio; a swept key keeps its case-file name.
+  for (const auto& [key, values] : columns) {
+    std::string name = key, unit = "1", doc = "swept key of the group";
     for (const Observable& o : observables) {
-      const std::string k = o.key;
-      if (name == k) unit = o.unit, doc = std::string(o.doc) + ": mean over the seeds";
-      if (name == k + "_err")
-        unit = o.unit, doc = std::string(o.doc) + ": between-seed standard error s/sqrt(N)";
-      if (name == k + "_within_err")
-        unit = o.unit, doc = std::string(o.doc) + ": per-run errors alone, rms/sqrt(N)";
-      if (name == k + "_scatter_ratio") doc = std::string(o.doc) + ": between-seed / per-run";
+      const std::string k = o.key, n = dem_steady_name(o.key);
+      if (key == k) name = n, unit = o.unit, doc = std::string(o.doc) + ": mean over the seeds";
+      if (key == k + "_err")
+        name = n + "_err", unit = o.unit,
+        doc = std::string(o.doc) + ": between-seed standard error s/sqrt(N)";
+      if (key == k + "_within_err")
+        name = n + "_within_err", unit = o.unit,
+        doc = std::string(o.doc) + ": per-run errors alone, rms/sqrt(N)";
+      if (key == k + "_scatter_ratio")
+        name = n + "_scatter_ratio", doc = std::string(o.doc) + ": between-seed / per-run";
     }
-    if (name == "seeds") doc = "seeds with a steady value";
+    if (key == "seeds") {
+      std::vector<long> counts(values.begin(), values.end());
+      ctx.result.write("/seeds/seeds", counts, "1", "seeds with a steady value");
+      continue;
+    }
     ctx.result.write("/seeds/" + name, values, unit, doc);
   }
   ctx.result.flush();

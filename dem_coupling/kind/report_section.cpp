@@ -34,11 +34,12 @@ std::string dem_report_section(const std::filesystem::path& run_dir, core::Summa
   if (table.rows() < 2) return "";  // a single condition: nothing to fit
   const DemFits fits = compute_dem_fits(table);
   {
-    AppendedResultFile file(result);
+    core::ResultFile file(result, core::ResultFile::Mode::append);
     file.remove("/fits");
     write_dem_fits(fits, table, file);
     if (fits.wet && std::isfinite(fits.mixed.alpha()))
       file.attribute("/steady", "fitted_alpha", fits.mixed.alpha());
+    file.close();
   }
   // Old keys are kept except boyer.* (rewritten); a run made before the free mixed-number fit
   // had the one-parameter Boyer-in-K α as fit.alpha: it becomes fit.alpha_boyer*.

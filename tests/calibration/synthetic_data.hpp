@@ -51,7 +51,7 @@ inline std::vector<DataPoint> synthetic_points(const CalibratedModel& truth, uns
   return out;
 }
 
-// A /steady table in the DEM schema v1 from synthetic points (frictional, μ_p = 0.5).
+// A /steady table of a DEM result.h5 (docs/results.md) from synthetic points (frictional, μ_p = 0.5).
 inline std::filesystem::path write_dem_dataset(const std::vector<DataPoint>& points,
                                                const std::filesystem::path& file) {
   std::filesystem::create_directories(file.parent_path());

@@ -51,11 +51,11 @@ CalibratedModel sweep_truth() {
 const std::vector<std::string> steady_columns = {
     "friction",           "friction_err",      "solid_fraction",        "solid_fraction_err",
     "void_ratio",         "void_ratio_err",    "granular_temperature",  "granular_temperature_err",
-    "scaled_temperature", "normal_stress",     "normal_stress_err",     "pressure",
-    "pressure_err",       "shear_stress",      "shear_stress_err",      "inertial_number",
-    "inertial_number_err", "coordination",     "coordination_err",      "start_strain",
+    "scaled_temperature", "normal_stress",     "normal_stress_err",     "mean_stress",
+    "mean_stress_err",    "shear_stress",      "shear_stress_err",      "inertial_number",
+    "inertial_number_err", "coordination_number", "coordination_number_err", "steady_start_strain",
     "steady_reached",     "drift_max",         "profile_deviation",     "shear_rate",
-    "particle_friction",  "control_target",    "dt",                    "wall_s"};
+    "particle_friction",  "normal_stress_target", "time_step",          "wall_time"};
 
 fs::path write_sweep_result(const fs::path& file) {
   fs::create_directories(file.parent_path());
@@ -78,12 +78,12 @@ fs::path write_sweep_result(const fs::path& file) {
           {"solid_fraction_err", 3e-4}, {"void_ratio", 1 / phi - 1},
           {"void_ratio_err", 3e-4 / (phi * phi)}, {"granular_temperature", T},
           {"granular_temperature_err", 0.05 * T}, {"scaled_temperature", T / std::pow(d * rate, 2)},
-          {"normal_stress", p}, {"normal_stress_err", 0.01 * p}, {"pressure", 0.97 * p},
-          {"pressure_err", 0.01 * p}, {"shear_stress", mu * p}, {"shear_stress_err", 0.004 * p},
-          {"inertial_number", I}, {"inertial_number_err", 0.005 * I}, {"coordination", 3.5},
-          {"coordination_err", 0.02}, {"start_strain", 1.2}, {"steady_reached", 1},
+          {"normal_stress", p}, {"normal_stress_err", 0.01 * p}, {"mean_stress", 0.97 * p},
+          {"mean_stress_err", 0.01 * p}, {"shear_stress", mu * p}, {"shear_stress_err", 0.004 * p},
+          {"inertial_number", I}, {"inertial_number_err", 0.005 * I}, {"coordination_number", 3.5},
+          {"coordination_number_err", 0.02}, {"steady_start_strain", 1.2}, {"steady_reached", 1},
           {"drift_max", 1.4}, {"profile_deviation", 0.01}, {"shear_rate", rate},
-          {"particle_friction", mu_p}, {"control_target", 100}, {"dt", 4e-6}, {"wall_s", 90}};
+          {"particle_friction", mu_p}, {"normal_stress_target", 100}, {"time_step", 4e-6}, {"wall_time", 90}};
       for (const auto& [name, value] : row) col[name].push_back(value);
     }
   core::ResultFile f(file);
@@ -92,7 +92,6 @@ fs::path write_sweep_result(const fs::path& file) {
   f.attribute("/steady", "particle_density", rho);
   f.attribute("/steady", "restitution", 0.7);
   f.attribute("/steady", "control", std::string("constant_pressure"));
-  f.attribute("/steady", "schema", std::string("granflow DEM dataset v1 (docs/dem_dataset.md)"));
   f.flush();
   return file;
 }

@@ -129,7 +129,7 @@ TEST(MpiSweeps, RevSweepOnTwoRanksWritesTheSerialRunDirectory) {
   // The steady table and a full series, element by element.
   for (const char* path :
        {"/steady/shear_rate", "/steady/friction", "/steady/solid_fraction",
-        "/steady/granular_temperature", "/steady/steady_strain", "/conditions/8/series/time",
+        "/steady/granular_temperature", "/steady/steady_start_strain", "/conditions/8/series/time",
         "/conditions/3/series/granular_temperature"})
     EXPECT_EQ(granflow::core::read_dataset(serial / "result.h5", path),
               granflow::core::read_dataset(distributed / "result.h5", path))

@@ -205,7 +205,7 @@ TEST(DemCli, SweepContinuesAfterAFailedPointAndFlagsIt) {
   EXPECT_TRUE(summary.contains("steady.mu.1"));
   // The failed point's LIGGGHTS message is in the log, and point 1's samples are in result.h5.
   EXPECT_NE(read(run / "log.txt").find("no/such/fix/style"), std::string::npos);
-  EXPECT_GT(granflow::core::read_dataset(run / "result.h5", "/conditions/1/series/mu").size(),
+  EXPECT_GT(granflow::core::read_dataset(run / "result.h5", "/conditions/1/series/friction").size(),
             100u);
 }
 

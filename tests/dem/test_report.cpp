@@ -141,10 +141,10 @@ TEST(DemReport, WetSweepWithoutTabulatedStressRatiosGetsThemFromTheSeries) {
         }
         const std::string g = fmt::format("/conditions/{}", n++);
         h5.write(g + "/series/strain", strain, "1", "");
-        h5.write(g + "/series/sigma_yy", sigma, "Pa", "");
-        h5.write(g + "/series/tau_contact", tau_contact, "Pa", "");
-        h5.write(g + "/series/tau_lub", tau_lub, "Pa", "");
-        h5.attribute(g + "/steady", "start_strain", 1.0);
+        h5.write(g + "/series/normal_stress", sigma, "Pa", "");
+        h5.write(g + "/series/shear_stress_contact", tau_contact, "Pa", "");
+        h5.write(g + "/series/shear_stress_lubrication", tau_lub, "Pa", "");
+        h5.attribute(g + "/steady", "steady_start_strain", 1.0);
         contact_ratio.push_back(0.9 * mu.back());
       }
     for (const auto& [name, v] :
@@ -188,13 +188,13 @@ TEST(DemReport, InterruptedSweepIsAnalysedFromItsFinishedConditions) {
     for (double i : {0.01, 0.02, 0.05, 0.1, 0.2, 0.3, 0.15}) {
       const std::string g = fmt::format("/conditions/{}", n++);
       h5.attribute(g, "particle_friction", 0.5);
-      h5.attribute(g + "/steady", "I", i);
-      h5.attribute(g + "/steady", "I_err", 1e-3 * i);
-      h5.attribute(g + "/steady", "mu", dem::inertial_friction_law(i, 0.37, 0.64, 0.28));
-      h5.attribute(g + "/steady", "mu_err", 0.005);
-      h5.attribute(g + "/steady", "phi", 0.587 - 0.25 * i);
-      h5.attribute(g + "/steady", "phi_err", 0.001);
-      h5.attribute(g + "/steady", "end_strain", i == 0.15 ? 3.0 : 10.0);
+      h5.attribute(g + "/steady", "inertial_number", i);
+      h5.attribute(g + "/steady", "inertial_number_err", 1e-3 * i);
+      h5.attribute(g + "/steady", "friction", dem::inertial_friction_law(i, 0.37, 0.64, 0.28));
+      h5.attribute(g + "/steady", "friction_err", 0.005);
+      h5.attribute(g + "/steady", "solid_fraction", 0.587 - 0.25 * i);
+      h5.attribute(g + "/steady", "solid_fraction_err", 0.001);
+      h5.attribute(g + "/steady", "steady_end_strain", i == 0.15 ? 3.0 : 10.0);
     }
   }
   const std::string text = read(analysis::write_report(dir, dem_registry()));

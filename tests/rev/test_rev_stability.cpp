@@ -36,7 +36,7 @@ void expect_sane(const rev::ElementSeries& s, const std::string& what) {
                 std::isfinite(s.void_ratio[i]) && std::isfinite(s.effective_pressure[i]))
         << what << " step " << i;
     ASSERT_GE(s.granular_temperature[i], 0.0) << what << " step " << i;
-    ASSERT_GE(s.yield_size[i], 0.0) << what << " step " << i;
+    ASSERT_GE(s.locus_size[i], 0.0) << what << " step " << i;
     if (s.fluidized[i] > 0.5) {
       ASSERT_EQ(s.q_force_chain[i], 0.0) << what << " step " << i;
       ASSERT_EQ(s.effective_pressure[i], 0.0) << what << " step " << i;
@@ -117,9 +117,9 @@ TEST(RevStability, FluidizationAndRegrowthInReconsolidation) {
   ASSERT_GT(r.liquefaction_strain, 0);
   ASSERT_GT(r.resolidification_time, r.series.time[control.stages[0].steps]);
   const std::size_t drop = static_cast<std::size_t>(control.stages[0].steps);
-  EXPECT_EQ(s.yield_size[drop], 0.0);
+  EXPECT_EQ(s.locus_size[drop], 0.0);
   EXPECT_LT(s.granular_temperature.back(), 1e-6 * s.granular_temperature[drop]);
-  EXPECT_GT(s.yield_size.back(), 50e3);
+  EXPECT_GT(s.locus_size.back(), 50e3);
   EXPECT_NEAR(s.effective_pressure.back(), 50e3, 0.2 * 50e3);
   EXPECT_NEAR(s.pore_pressure.back(), control.pore_pressure, 1.0);  // drained to u_w0 (1 Pa)
   EXPECT_GT(s.volumetric_strain.back(), 0.01);  // the sample compacted as the water left

@@ -222,7 +222,7 @@ TEST(SimpleShearAllTerms, LooseSkeletonFluidizesToTheCollisionalLiquidSteadyStat
   const auto with = rev::run_simple_shear(continuum::MultiRegimePoint(settings), control);
   ASSERT_TRUE(with.steady.reached && without.steady.reached);
   EXPECT_EQ(with.steady.force_chain_shear_stress, 0.0);
-  EXPECT_EQ(with.steady.yield_size, 0.0);
+  EXPECT_EQ(with.steady.locus_size, 0.0);
   EXPECT_GT(*std::max_element(with.series.force_chain_shear_stress.begin(),
                               with.series.force_chain_shear_stress.end()),
             5e3);  // the skeleton carried shear first
