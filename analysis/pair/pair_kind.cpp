@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "analysis/calibration/calibration.hpp"
+#include "analysis/pair/pair_columns.hpp"
 #include "analysis/pair/pair_report.hpp"
 #include "continuum/sections/model_sections.hpp"
 #include "continuum/rev/simple_shear.hpp"
@@ -85,15 +86,15 @@ void write_model_curves(core::RunContext& ctx, const std::vector<calibration::Da
     curve["shear_rate"].push_back(at.shear_rate);
     curve["normal_stress"].push_back(sigma);
     const double eta0 = std::isfinite(at.liquid_viscosity) ? at.liquid_viscosity : 0.0;
-    curve["J"].push_back(eta0 * at.shear_rate / sigma);
+    curve["viscous_number"].push_back(eta0 * at.shear_rate / sigma);
     const double rho_p = model.settings.collisional_parameters.particle_density;
-    curve["I"].push_back(at.shear_rate * model.settings.collisional_parameters.diameter /
+    curve["inertial_number"].push_back(at.shear_rate * model.settings.collisional_parameters.diameter /
                          std::sqrt(sigma / rho_p));
     const auto add = [&](const std::string& tag, const calibration::CalibratedModel& m) {
       const auto s = calibration::predict(m, at);
-      curve["mu_" + tag].push_back(s.ok ? s.friction : NAN);
-      curve["phi_" + tag].push_back(s.ok ? s.solid_fraction : NAN);
-      curve["T_" + tag].push_back(s.ok ? s.granular_temperature : NAN);
+      curve["friction_" + tag].push_back(s.ok ? s.friction : NAN);
+      curve["solid_fraction_" + tag].push_back(s.ok ? s.solid_fraction : NAN);
+      curve["granular_temperature_" + tag].push_back(s.ok ? s.granular_temperature : NAN);
       curve["share_tau_fc_" + tag].push_back(s.ok ? s.force_chain_shear_stress / s.shear_stress
                                                   : NAN);
     };
@@ -101,20 +102,31 @@ void write_model_curves(core::RunContext& ctx, const std::vector<calibration::Da
     add("kt", kinetic);
     if (calibrated) add("cal", *calibrated);
   }
-  for (const auto& [name, values] : curve)
-    ctx.result.write("/pair/curve/" + name, values,
-                     name.rfind("T_", 0) == 0
-                         ? "m^2/s^2"
-                         : (name == "shear_rate" ? "1/s" : (name == "normal_stress" ? "Pa" : "1")),
-                     name + " along a smooth γ̇ sweep at the DEM's σ_yy interpolated in log γ̇ "
-                            "(_model: the case's continuum model, _kt: kinetic theory alone, _cal: "
-                            "calibrated)");
+  // Named as the shared vocabulary, QUANTITY_SOURCE (pair_columns.hpp).
+  for (const auto& [name, values] : curve) {
+    namespace c = core::columns;
+    std::string unit = "1", doc;
+    if (name == c::shear_rate.name || name == c::normal_stress.name ||
+        name == c::inertial_number.name || name == c::viscous_number.name ||
+        name == c::solid_fraction.name) {
+      for (const core::Column& q : {c::shear_rate, c::normal_stress, c::inertial_number,
+                                    c::viscous_number, c::solid_fraction})
+        if (name == q.name) unit = q.unit, doc = q.description;
+    } else if (name.rfind("share_tau_fc_", 0) == 0) {
+      doc = "τ_FC/τ, the share of τ carried by the force chains: " + pair_source(name.substr(12));
+    } else {
+      const PairColumn column = pair_column(name);
+      unit = column.unit, doc = column.description;
+    }
+    ctx.result.write("/pair/curve/" + name, values, unit,
+                     doc + ", along a smooth γ̇ sweep at the DEM's σ_yy interpolated in log γ̇");
+  }
 }
 
 // Immersed pairs that vary η0: smooth curves over the viscous number J = η0 γ̇/σ_yy, one per
 // level of σ_yy (points within 30 % of each other's σ_yy form a level), at the level's mean γ̇
 // and σ_yy, η0 log spaced from half the smallest to twice the largest of the level:
-// /pair/curve_J/<level>/{J, mu_*, phi_*, T_*}.
+// /pair/curve_J/<level>/{viscous_number, friction_*, solid_fraction_*, granular_temperature_*}.
 void write_viscous_curves(core::RunContext& ctx, const std::vector<calibration::DataPoint>& points,
                           const calibration::CalibratedModel& model,
                           const calibration::CalibratedModel& kinetic,
@@ -147,23 +159,26 @@ void write_viscous_curves(core::RunContext& ctx, const std::vector<calibration::
       at.liquid_viscosity = lo * std::pow(hi / lo, double(i) / (count - 1));
       at.shear_rate = gamma_dot;
       at.normal_stress = sigma;
-      curve["J"].push_back(at.liquid_viscosity * gamma_dot / sigma);
+      curve[core::columns::viscous_number.name].push_back(at.liquid_viscosity * gamma_dot / sigma);
       const auto add = [&](const std::string& tag, const calibration::CalibratedModel& m) {
         const auto s = calibration::predict(m, at);
-        curve["mu_" + tag].push_back(s.ok ? s.friction : NAN);
-        curve["phi_" + tag].push_back(s.ok ? s.solid_fraction : NAN);
-        curve["T_" + tag].push_back(s.ok ? s.granular_temperature : NAN);
+        curve["friction_" + tag].push_back(s.ok ? s.friction : NAN);
+        curve["solid_fraction_" + tag].push_back(s.ok ? s.solid_fraction : NAN);
+        curve["granular_temperature_" + tag].push_back(s.ok ? s.granular_temperature : NAN);
       };
       add("model", model);
       add("kt", kinetic);
       if (calibrated) add("cal", *calibrated);
     }
     const std::string group = fmt::format("/pair/curve_J/{}/", level);
-    for (const auto& [name, values] : curve)
-      ctx.result.write(group + name, values, name.rfind("T_", 0) == 0 ? "m^2/s^2" : "1",
-                       fmt::format("{} along a smooth η0 sweep at γ̇ = {:g} 1/s, σ_yy = {:g} Pa "
-                                   "(_model, _kt: kinetic theory alone, _cal: calibrated)",
-                                   name, gamma_dot, sigma));
+    for (const auto& [name, values] : curve) {
+      const PairColumn column = name == core::columns::viscous_number.name
+                                    ? PairColumn{name, "1", core::columns::viscous_number.description}
+                                    : pair_column(name);
+      ctx.result.write(group + name, values, column.unit,
+                       fmt::format("{}, along a smooth η0 sweep at γ̇ = {:g} 1/s, σ_yy = {:g} Pa",
+                                   column.description, gamma_dot, sigma));
+    }
     ctx.result.attribute(group.substr(0, group.size() - 1), "normal_stress", sigma);
   }
 }
@@ -439,9 +454,9 @@ int run_pair_case(core::RunContext& ctx) {
     };
     const double tau = s.shear_stress, p_total = s.force_chain_normal_stress + s.collisional_pressure;
     const std::map<std::string, double> more = {
-        {"mu_kt", ok(s_kt, s_kt.friction)},
-        {"phi_kt", ok(s_kt, s_kt.solid_fraction)},
-        {"T_kt", ok(s_kt, s_kt.granular_temperature)},
+        {"friction_kt", ok(s_kt, s_kt.friction)},
+        {"solid_fraction_kt", ok(s_kt, s_kt.solid_fraction)},
+        {"granular_temperature_kt", ok(s_kt, s_kt.granular_temperature)},
         {"share_tau_fc", ok(s, s.force_chain_shear_stress / tau)},
         {"share_tau_col", ok(s, s.collisional_shear_stress / tau)},
         {"share_tau_liq", ok(s, s.liquid_shear_stress / tau)},
@@ -449,14 +464,14 @@ int run_pair_case(core::RunContext& ctx) {
         // σ_yy of the continuum: the imposed one at constant pressure, its prediction at the
         // DEM's φ at constant volume
         {"normal_stress_cont", ok(s, s.normal_stress)},
-        {"rel_err_p", ok(s, s.normal_stress / p.normal_stress - 1.0)}};
+        {"normal_stress_rel_err", ok(s, s.normal_stress / p.normal_stress - 1.0)}};
     for (const auto& [name, value] : more) extra[name].push_back(value);
     const std::string key = fmt::format("pair.{}.", n);
     if (calibrate) {
       const auto s_cal = calibration::predict(calibrated, p);
-      extra["mu_cal"].push_back(ok(s_cal, s_cal.friction));
-      extra["phi_cal"].push_back(ok(s_cal, s_cal.solid_fraction));
-      extra["T_cal"].push_back(ok(s_cal, s_cal.granular_temperature));
+      extra["friction_cal"].push_back(ok(s_cal, s_cal.friction));
+      extra["solid_fraction_cal"].push_back(ok(s_cal, s_cal.solid_fraction));
+      extra["granular_temperature_cal"].push_back(ok(s_cal, s_cal.granular_temperature));
       extra["held_out"].push_back(n % 2 ? 1.0 : 0.0);
       sum.set(key + "mu_cal", ok(s_cal, s_cal.friction));
       sum.set(key + "rel_err_mu_cal", ok(s_cal, s_cal.friction / p.value[0] - 1.0));
@@ -473,7 +488,7 @@ int run_pair_case(core::RunContext& ctx) {
     sum.set(key + "I_dem", I_d);
     sum.set(key + "p_cont", more.at("normal_stress_cont"));
     if (in_parallel) {
-      sum.set(key + "mu_kt", more.at("mu_kt"));
+      sum.set(key + "mu_kt", more.at("friction_kt"));
       sum.set(key + "share_tau_fc", more.at("share_tau_fc"));
     }
     if (J_d > 0) sum.set(key + "J_dem", J_d), sum.set(key + "J_cont", J_c);
@@ -483,7 +498,7 @@ int run_pair_case(core::RunContext& ctx) {
         "({:+.1f} %; kinetic theory alone {:.4g}), e {:.4g} vs {:.4g}, T {:.3g} vs {:.3g} m²/s², "
         "σ_yy {:.4g} vs {:.4g} Pa, τ carried {:.0f} % by the force chains{}",
         n, p.shear_rate, I_d, regime_name(flow_regime(I_d, J_d)), p.value[0], p.error[0], mu_c,
-        100 * row[rel_mu], more.at("mu_kt"), e_d, e_c, T_d, T_c, p.normal_stress,
+        100 * row[rel_mu], more.at("friction_kt"), e_d, e_c, T_d, T_c, p.normal_stress,
         more.at("normal_stress_cont"), 100 * more.at("share_tau_fc"),
         s.ok ? "" : fmt::format(" ({})", s.why));
     ++n;
@@ -494,35 +509,72 @@ int run_pair_case(core::RunContext& ctx) {
       "kinetic theory alone by two paths (algebraic steady state vs time-stepped REV): largest "
       "relative difference of μ, φ, T {:.2g}",
       max_rev_diff);
-  ctx.result.write("/pair/J_dem", viscous_cols[0], "1",
-                   "viscous number η0 γ̇ / σ_yy of the DEM condition (0 dry)");
-  ctx.result.write("/pair/J_cont", viscous_cols[1], "1", "J of the continuum steady state");
-  ctx.result.write("/pair/St", viscous_cols[2], "1", "Stokes number I²/J (inf dry)");
-  ctx.result.write("/pair/mu_rev", rev_cols[0], "1",
-                   "μ of the time-stepped REV, kinetic theory alone (second path)");
-  ctx.result.write("/pair/phi_rev", rev_cols[1], "1", "φ of the time-stepped REV");
-  ctx.result.write("/pair/T_rev", rev_cols[2], "m^2/s^2", "T of the time-stepped REV");
-  const char* names[21] = {"shear_rate", "normal_stress", "mu_dem",     "mu_dem_err", "mu_cont",
-                           "phi_dem",    "phi_dem_err",   "phi_cont",   "e_dem",      "e_cont",
-                           "T_dem",      "T_dem_err",     "T_cont",     "I_dem",      "I_cont",
-                           "K_dem",      "K_cont",        "rel_err_mu", "rel_err_e",  "rel_err_T",
+  // The /pair table, QUANTITY_SOURCE names (pair_columns.hpp).
+  auto write = [&](const std::string& name, const std::vector<double>& values) {
+    const PairColumn column = pair_column(name);
+    ctx.result.write("/pair/" + name, values, column.unit, column.description);
+  };
+  write("viscous_number_dem", viscous_cols[0]);
+  write("viscous_number_cont", viscous_cols[1]);
+  ctx.result.write("/pair", core::columns::described(core::columns::stokes_number,
+                                                     "Stokes number I²/J of the DEM point (inf dry)"),
+                   viscous_cols[2]);
+  write("friction_rev", rev_cols[0]);
+  write("solid_fraction_rev", rev_cols[1]);
+  write("granular_temperature_rev", rev_cols[2]);
+  const char* names[21] = {"shear_rate",
+                           "normal_stress",
+                           "friction_dem",
+                           "friction_dem_err",
+                           "friction_cont",
+                           "solid_fraction_dem",
+                           "solid_fraction_dem_err",
+                           "solid_fraction_cont",
+                           "void_ratio_dem",
+                           "void_ratio_cont",
+                           "granular_temperature_dem",
+                           "granular_temperature_dem_err",
+                           "granular_temperature_cont",
+                           "inertial_number_dem",
+                           "inertial_number_cont",
+                           "mixed_number_dem",
+                           "mixed_number_cont",
+                           "friction_rel_err",
+                           "void_ratio_rel_err",
+                           "granular_temperature_rel_err",
                            "regime"};
-  const char* units[21] = {"1/s",     "Pa",      "1", "1", "1", "1", "1", "1", "1", "1", "m^2/s^2",
-                           "m^2/s^2", "m^2/s^2", "1", "1", "1", "1", "1", "1", "1", "1"};
-  for (int k = 0; k < 21; ++k)
-    ctx.result.write(std::string("/pair/") + names[k], cols[k], units[k],
-                     k == regime ? "regime of the DEM point: 0 quasi-static (I < 1e-3), 1 dense "
-                                   "inertial, 2 collisional (I >= 0.1), 3 viscous (St = I²/J < 1)"
-                                 : std::string(names[k]) +
-                                       " (_dem: DEM steady ± batch-means error, _cont: continuum "
-                                       "steady simple shear at the DEM γ̇ and σ_yy, or at its φ "
-                                       "for a constant-volume DEM)");
-  for (const auto& [name, values] : extra)
-    ctx.result.write("/pair/" + name, values, name.rfind("T_", 0) == 0 ? "m^2/s^2" : "1",
-                     name + " (_kt: kinetic theory alone; _cal: the model calibrated on the "
-                            "points with held_out = 0; share_*: fraction of τ or σ_yy carried "
-                            "by the force chains, collisions, liquid; normal_stress_cont: the "
-                            "continuum's σ_yy, rel_err_p its relative error at constant volume)");
+  for (int k = 0; k < 21; ++k) {
+    if (k == shear_rate || k == normal_stress) {
+      ctx.result.write("/pair",
+                       k == shear_rate ? core::columns::shear_rate
+                                       : core::columns::described(core::columns::normal_stress,
+                                                                  "σ_yy of the DEM point"),
+                       cols[k]);
+    } else if (k == regime) {
+      ctx.result.write("/pair/regime", std::vector<long>(cols[k].begin(), cols[k].end()), "1",
+                       "regime of the DEM point: 0 quasi-static (I < 1e-3), 1 dense inertial, 2 "
+                       "collisional (I >= 0.1), 3 viscous (St = I²/J < 1)");
+    } else {
+      write(names[k], cols[k]);
+    }
+  }
+  for (const auto& [name, values] : extra) {
+    if (name == "held_out") {
+      ctx.result.write("/pair/held_out", std::vector<long>(values.begin(), values.end()), "1",
+                       "1: left out of the calibration (calibrate section), 0: fitted");
+    } else if (name.rfind("share_", 0) == 0) {
+      ctx.result.write("/pair/" + name, values, "1",
+                       name == "share_p_fc" ? "σ_yy,FC/(σ_yy,FC + p_COL), the force chains' share "
+                                              "of the normal stress (continuum)"
+                                            : "share of τ carried by the " +
+                                                  std::string(name == "share_tau_fc"    ? "force chains"
+                                                              : name == "share_tau_col" ? "collisions"
+                                                                                        : "liquid") +
+                                                  " (continuum)");
+    } else {
+      write(name, values);
+    }
+  }
   write_model_curves(ctx, data.points, model, kinetic, calibrate ? &calibrated : nullptr);
   write_viscous_curves(ctx, data.points, model, kinetic, calibrate ? &calibrated : nullptr);
   ctx.plot("plot_pair.py");

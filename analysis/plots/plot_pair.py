@@ -22,18 +22,19 @@ REGIMES = {0: "quasi-static", 1: "dense inertial", 2: "collisional", 3: "viscous
 def main(run):
     with h5py.File(os.path.join(run, "result.h5"), "r") as h5:
         g = h5["pair"]
-        I = g["I_dem"][:]
+        I = g["inertial_number_dem"][:]
         gd = g["shear_rate"][:]
         order = np.argsort(I)
         fig, axes = plt.subplots(1, 3, figsize=(14, 4))
-        panels = [("mu", "μ = τ/σ_yy", False), ("phi", "φ", False), ("T", "T [m²/s²]", True)]
+        panels = [("friction", "μ = τ/σ_yy", False), ("solid_fraction", "φ", False),
+                  ("granular_temperature", "T [m²/s²]", True)]
         for ax, (name, label, log) in zip(axes, panels):
             y = g[name + "_dem"][:]
             err = g[name + "_dem_err"][:]
             ax.errorbar(I, y, yerr=err, fmt="ko", capsize=2, label="DEM (LIGGGHTS)", zorder=3)
             if "curve" in g:
                 c = g["curve"]
-                Ic = c["I"][:]
+                Ic = c["inertial_number"][:]
                 styles = [("model", "r-", "continuum (case's model)"),
                           ("kt", "b--", "kinetic theory alone"),
                           ("cal", "g-", "continuum, calibrated")]
@@ -50,7 +51,7 @@ def main(run):
             ax.set(xlabel="inertial number I", ylabel=label)
         axes[0].legend(fontsize=8)
         for i in range(len(I)):
-            axes[0].annotate(REGIMES.get(int(g["regime"][i]), "?"), (I[i], g["mu_dem"][i]),
+            axes[0].annotate(REGIMES.get(int(g["regime"][i]), "?"), (I[i], g["friction_dem"][i]),
                              fontsize=6, xytext=(3, 3), textcoords="offset points")
         fig.suptitle(f"DEM vs continuum, {len(I)} points (γ̇ = {', '.join(f'{v:g}' for v in gd)} 1/s)")
         fig.tight_layout()
@@ -58,7 +59,7 @@ def main(run):
         plt.close(fig)
 
         if "curve_J" in g:  # immersed pair over η0: μ, φ, T against J, one curve per σ_yy level
-            J = g["J_dem"][:]
+            J = g["viscous_number_dem"][:]
             fig, axes = plt.subplots(1, 3, figsize=(14, 4))
             for ax, (name, label, log) in zip(axes, panels):
                 ax.errorbar(J, g[name + "_dem"][:], yerr=g[name + "_dem_err"][:], fmt="ko",
@@ -70,7 +71,7 @@ def main(run):
                                              ("kt", "b--", "kinetic theory alone"),
                                              ("cal", "g-", "calibrated")):
                         if name + "_" + tag in c:
-                            ax.plot(c["J"][:], c[name + "_" + tag][:], style, lw=1.2,
+                            ax.plot(c["viscous_number"][:], c[name + "_" + tag][:], style, lw=1.2,
                                     label=f"{text}, σ_yy = {sigma:.3g} Pa")
                 ax.set_xscale("log")
                 finite = [v for line in ax.get_lines() for v in line.get_ydata() if np.isfinite(v) and v > 0]
@@ -86,11 +87,11 @@ def main(run):
         if "curve" in g and "share_tau_fc_model" in g["curve"]:
             c = g["curve"]
             fig, ax = plt.subplots(figsize=(6, 3.8))
-            ax.plot(c["I"][:], c["share_tau_fc_model"][:], "r-", label="force chains τ_FC/τ")
-            ax.plot(c["I"][:], 1 - c["share_tau_fc_model"][:], "b-",
+            ax.plot(c["inertial_number"][:], c["share_tau_fc_model"][:], "r-", label="force chains τ_FC/τ")
+            ax.plot(c["inertial_number"][:], 1 - c["share_tau_fc_model"][:], "b-",
                     label="collisions + liquid (τ_COL + τ_L)/τ")
             if "share_tau_fc_cal" in c:
-                ax.plot(c["I"][:], c["share_tau_fc_cal"][:], "g--", label="force chains, calibrated")
+                ax.plot(c["inertial_number"][:], c["share_tau_fc_cal"][:], "g--", label="force chains, calibrated")
             ax.set_xscale("log")
             ax.set(xlabel="inertial number I", ylabel="share of τ", ylim=(-0.02, 1.02),
                    title="who carries the shear stress (continuum)")
@@ -100,8 +101,9 @@ def main(run):
             plt.close(fig)
 
         fig, ax = plt.subplots(figsize=(6, 3.8))
-        for name, style in (("rel_err_mu", "o-"), ("rel_err_e", "s-"), ("rel_err_T", "^-")):
-            ax.plot(I[order], 100 * g[name][:][order], style, label=name.replace("rel_err_", ""))
+        for name, style, label in (("friction", "o-", "μ"), ("void_ratio", "s-", "e"),
+                                   ("granular_temperature", "^-", "T")):
+            ax.plot(I[order], 100 * g[name + "_rel_err"][:][order], style, label=label)
         ax.axhline(0, color="k", lw=0.8)
         ax.set_xscale("log")
         ax.set(xlabel="inertial number I", ylabel="continuum / DEM − 1 [%]",

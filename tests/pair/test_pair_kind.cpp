@@ -65,8 +65,8 @@ TEST(PairKind, TinyPairRunsEndToEnd) {
     EXPECT_NEAR(s.get(k + "rel_err_mu"), s.get(k + "mu_cont") / s.get(k + "mu_dem") - 1, 1e-12);
   }
   // The DEM's σ_yy is the continuum's imposed p: the two I agree up to the DEM's σ_yy error.
-  const auto I_dem = core::read_dataset(dir / "result.h5", "/pair/I_dem");
-  const auto I_cont = core::read_dataset(dir / "result.h5", "/pair/I_cont");
+  const auto I_dem = core::read_dataset(dir / "result.h5", "/pair/inertial_number_dem");
+  const auto I_cont = core::read_dataset(dir / "result.h5", "/pair/inertial_number_cont");
   for (std::size_t i = 0; i < I_dem.size(); ++i)
     EXPECT_NEAR(I_cont[i] / I_dem[i], 1.0, 1e-6);  // same γ̇, d, ρ_p and p: rounding of the solve
   EXPECT_TRUE(std::filesystem::exists(dir / "dem" / "result.h5"));
@@ -113,8 +113,8 @@ sweep:
   }
   const auto s = core::Summary::read(dir / "summary.json");
   ASSERT_EQ(static_cast<int>(s.get("pair.count")), 2);
-  const auto J_dem = core::read_dataset(dir / "result.h5", "/pair/J_dem");
-  const auto J_cont = core::read_dataset(dir / "result.h5", "/pair/J_cont");
+  const auto J_dem = core::read_dataset(dir / "result.h5", "/pair/viscous_number_dem");
+  const auto J_cont = core::read_dataset(dir / "result.h5", "/pair/viscous_number_cont");
   const auto sigma = core::read_dataset(dir / "result.h5", "/pair/normal_stress");
   const auto regime = core::read_dataset(dir / "result.h5", "/pair/regime");
   const double eta[2] = {0.25, 0.0025};
