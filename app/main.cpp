@@ -2,6 +2,7 @@
 //   granflow run CASE.yaml [--out DIR] [--set key.path=value]... [--force]
 //   granflow check CASE.yaml [--set ...]
 //   granflow schema [--markdown]
+//   granflow export RUN_DIR --csv [--out DIR]
 //   granflow study convergence|closures CASE.yaml ...
 // Under `mpirun -np N granflow run CASE.yaml` the conditions of a sweep are distributed over the
 // N ranks (core/sweep_scheduler.hpp, docs/parallel-runs.md); rank 0 writes the run directory.
@@ -20,6 +21,7 @@
 #include <optional>
 
 #include "analysis/report.hpp"
+#include "app/export_command.hpp"
 #include "app/registry.hpp"
 #ifdef GRANFLOW_HAVE_CALIBRATE_KIND
 #include "analysis/calibration/closure_study.hpp"
@@ -121,7 +123,8 @@ int run_main(int argc, char** argv) {
       "cores)\n"
       "  granflow study convergence cases/mpm/rheometer_ci.yaml --vary mesh\n"
       "  granflow study closures cases/calibrate/closure_study_dry.yaml   (mpirun -np N: shared)\n"
-      "  granflow schema --markdown > docs/cases.md\n\n"
+      "  granflow schema --markdown > docs/cases.md\n"
+      "  granflow export runs/pair_dry --csv --out runs/pair_dry/csv\n\n"
       "Case kinds (kind / test):\n" +
       kinds +
       "\nExit codes: 0 ok, 1 internal error, 2 bad input (file:line, key path, expectation),\n"
@@ -148,6 +151,14 @@ int run_main(int argc, char** argv) {
   auto* report =
       cli.add_subcommand("report", "write RUN_DIR/report.md: summary, tables and plots of a run");
   report->add_option("run_dir", report_dir, "a run directory (with summary.json)")->required();
+  std::string export_dir, export_out;
+  bool export_as_csv = false;
+  auto* exporter = cli.add_subcommand(
+      "export", "write every table of RUN_DIR/result.h5 as CSV (header \"name [unit]\")");
+  exporter->add_option("run_dir", export_dir, "a run directory (with result.h5)")->required();
+  exporter->add_flag("--csv", export_as_csv, "CSV files, one per table (the one format)")
+      ->required();
+  exporter->add_option("--out", export_out, "directory of the CSV files (default RUN_DIR/csv)");
 
   auto* study = cli.add_subcommand("study", "studies made of many runs");
   auto* convergence = study->add_subcommand(
@@ -280,6 +291,20 @@ int run_main(int argc, char** argv) {
   }
   if (schema->parsed()) {
     std::cout << schema_reference(registry);
+    return core::exit_ok;
+  }
+  if (exporter->parsed()) {
+    const fs::path out = export_out.empty() ? fs::path(export_dir) / "csv" : fs::path(export_out);
+    try {
+      const int files = app::export_csv(export_dir, out);
+      std::cout << fmt::format("{}: {} CSV files\n", out.string(), files);
+    } catch (const core::IoError& e) {
+      std::cerr << "error: " << e.what() << "\n";
+      return core::exit_io;
+    } catch (const std::exception& e) {
+      std::cerr << "error: " << e.what() << "\n";
+      return core::exit_bad_input;
+    }
     return core::exit_ok;
   }
 

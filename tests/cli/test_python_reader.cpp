@@ -1,7 +1,9 @@
 // The Python reader (analysis/python/granflow_results.py) on tiny runs of every kind this build
 // has, made here through the granflow program: rev, mpm (Terzaghi), dem and pair (one tiny pair:
 // its DEM run sits in pair/dem), calibrate (on that DEM run). tests/cli/check_results_reader.py
-// opens each with the reader and checks kinds, tables, units and the CSV export.
+// opens each with the reader and checks kinds, tables, units, the types of result.h5
+// (schema_version, str attributes, integer flags), that docs/results.md lists every dataset with
+// its unit, and `granflow export --csv` against the reader's tables.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -52,8 +54,10 @@ TEST(PythonReader, OpensTheTinyRunOfEveryKind) {
   const fs::path work = fs::path(GRANFLOW_BINARY_DIR) / "test_python_reader";
   fs::remove_all(work);
   fs::create_directories(work);
+  // --granflow: `granflow export RUN --csv` is checked against the reader's tables.
   std::vector<std::string> checks{"/usr/bin/python3",
-                                  (source / "tests/cli/check_results_reader.py").string()};
+                                  (source / "tests/cli/check_results_reader.py").string(),
+                                  "--granflow", binary.string()};
 
   ASSERT_EQ(granflow({"run", (source / "cases/rev/simple_shear_dry.yaml").string(), "--out",
                       (work / "rev").string(), "--quiet"},
