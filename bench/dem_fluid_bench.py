@@ -29,23 +29,7 @@ import sys
 import tempfile
 
 DECK = """# granflow fix fluid/le benchmark deck (see bench/dem_fluid_bench.py)
-variable gf_shear_rate equal 50
-variable gf_total_steps equal {steps}
-variable gf_sample_every equal {sample}
-variable gf_constant_pressure equal 0
-variable gf_normal_stress equal 0
-variable gf_servo_gain equal 0
-variable gf_servo_max_strain equal 0
-variable gf_servo_every equal {sample}
-variable gf_profile_bins equal 10
-variable gf_particle_density equal 2500
-atom_style      granular
-atom_modify     map array
-boundary        p p p
-newton          off
-communicate     single vel yes
-units           si
-processors      * * 1
+{header}processors      * * 1
 region          box prism 0 0.0169 0 0.0169 0 0.0169 0 0 0 units box
 create_box      2 box
 neighbor        0.0002 bin
@@ -91,10 +75,18 @@ FLUID = ("fix fluid all fluid/le viscosity 0.01 permeability seed_eq26 drag yes 
 DRAG_ONLY = ("fix fluid all fluid/le viscosity 0.01 permeability seed_eq26 drag yes rotation yes")
 
 
+def deck_header(driver, steps, sample):
+    """The deck header granflow-dem reads, from its own definition (granflow-dem --header)."""
+    words = ["shear_rate=50", f"total_steps={steps}", f"sample_every={sample}",
+             "profile_bins=10", "particle_density=2500"]
+    return subprocess.run([driver, "--header"] + words, check=True, capture_output=True,
+                          text=True).stdout
+
+
 def run(driver, workdir, fluid, ranks, steps, cpu=False):
     os.makedirs(workdir, exist_ok=True)
     with open(os.path.join(workdir, "in.bench"), "w") as f:
-        f.write(DECK.format(steps=steps, sample=100, fluid=fluid))
+        f.write(DECK.format(header=deck_header(driver, steps, 100), sample=100, fluid=fluid))
     cmd = [driver, "in.bench", "-log", "log.txt", "-screen", "none"]
     env = dict(os.environ)
     if ranks > 1:
@@ -181,7 +173,8 @@ def breakdown(driver, workdir, steps):
         count = ("fix pairs all ave/time 100 1 100 f_fluid[27] ave running\n"
                  "thermo_style custom step atoms ke c_gf_virial[2] f_pairs\n") if wet else ""
         with open(os.path.join(d, "in.bench"), "w") as f:
-            f.write(DECK.format(steps=100, sample=100, fluid=fluid) + count + f"run {steps}\n")
+            f.write(DECK.format(header=deck_header(driver, 100, 100), sample=100, fluid=fluid) + count +
+                    f"run {steps}\n")
         subprocess.run([driver, "in.bench", "-log", "log.txt", "-screen", "none"], cwd=d,
                        check=True, stdout=subprocess.DEVNULL)
         text = open(os.path.join(d, "log.txt"), errors="replace").read()

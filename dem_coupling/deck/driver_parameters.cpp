@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+#include <stdexcept>
+
 namespace granflow::dem {
 
 std::string driver_parameter_lines(const DriverParameters& p) {
@@ -23,6 +26,39 @@ std::string driver_parameter_lines(const DriverParameters& p) {
       "variable gf_particle_density equal {:.17g}\n",
       p.profile_bins, p.particle_density);
   return lines;
+}
+
+DriverParameters driver_parameters_from_words(const std::vector<std::string>& words) {
+  DriverParameters p;
+  bool servo_every_given = false;
+  for (const auto& word : words) {
+    const auto eq = word.find('=');
+    const std::string name = word.substr(0, eq == std::string::npos ? 0 : eq);
+    const std::string text = eq == std::string::npos ? std::string() : word.substr(eq + 1);
+    double value = 0;
+    try {
+      std::size_t used = 0;
+      value = std::stod(text, &used);
+      if (used != text.size()) throw std::invalid_argument(text);
+    } catch (const std::exception&) {
+      throw std::invalid_argument("'" + word + "': expected NAME=NUMBER");
+    }
+    const long integer = std::lround(value);
+    if (name == "shear_rate") p.shear_rate = value;
+    else if (name == "total_steps") p.total_steps = integer;
+    else if (name == "sample_every") p.sample_every = integer;
+    else if (name == "constant_pressure") p.constant_pressure = integer != 0;
+    else if (name == "normal_stress") p.normal_stress = value;
+    else if (name == "servo_gain") p.servo_gain = value;
+    else if (name == "servo_max_strain") p.servo_max_strain = value;
+    else if (name == "servo_every") p.servo_every = integer, servo_every_given = true;
+    else if (name == "servo_move_every") p.servo_move_every = integer;
+    else if (name == "profile_bins") p.profile_bins = int(integer);
+    else if (name == "particle_density") p.particle_density = value;
+    else throw std::invalid_argument("'" + word + "': unknown parameter '" + name + "'");
+  }
+  if (!servo_every_given) p.servo_every = p.sample_every;
+  return p;
 }
 
 std::string granular_atom_setup() {

@@ -7,6 +7,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace granflow::dem {
 
@@ -29,5 +30,12 @@ std::string driver_parameter_lines(const DriverParameters& p);
 
 // atom_style granular, map array, periodic boundaries, newton off, ghost velocities, SI units.
 std::string granular_atom_setup();
+
+// `granflow-dem --header NAME=VALUE ...`: DriverParameters from NAME=VALUE words (NAME a gf_*
+// variable without its prefix: shear_rate, total_steps, sample_every, constant_pressure,
+// normal_stress, servo_gain, servo_max_strain, servo_every, servo_move_every, profile_bins,
+// particle_density); servo_every defaults to sample_every. Throws std::invalid_argument naming a
+// word that is not NAME=VALUE with a known NAME and a number.
+DriverParameters driver_parameters_from_words(const std::vector<std::string>& words);
 
 }  // namespace granflow::dem

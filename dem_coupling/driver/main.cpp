@@ -45,6 +45,7 @@
 #include <string>
 #include <vector>
 
+#include "dem_coupling/deck/driver_parameters.hpp"
 #include "dem_coupling/extraction/snapshots.hpp"
 #include "dem_coupling/driver/contact_probe.hpp"
 #include "dem_coupling/driver/prepare_stage.hpp"
@@ -94,7 +95,7 @@ Options parse(int argc, char** argv, int rank) {
   if (argc < 2 || argv[1][0] == '-')
     usage_error(rank,
                 "usage: granflow-dem DECK [--series F] [--profile F] [--stats F] "
-                "[LIGGGHTS options]");
+                "[LIGGGHTS options]  |  granflow-dem --header NAME=VALUE ...");
   o.deck = argv[1];
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
@@ -309,6 +310,20 @@ void check_sample(const ShearSample& s, int rank) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // granflow-dem --header NAME=VALUE ...: the deck header this program reads, for hand-written
+  // decks (bench/dem_fluid_bench.py), from the one definition the deck writer uses.
+  if (argc >= 2 && std::string(argv[1]) == "--header") {
+    try {
+      const auto p = granflow::dem::driver_parameters_from_words({argv + 2, argv + argc});
+      std::fputs((granflow::dem::driver_parameter_lines(p) + granflow::dem::granular_atom_setup())
+                     .c_str(),
+                 stdout);
+      return 0;
+    } catch (const std::invalid_argument& e) {
+      std::fprintf(stderr, "granflow-dem --header: %s\n", e.what());
+      return 2;
+    }
+  }
   MPI_Init(&argc, &argv);
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
