@@ -316,7 +316,7 @@ void register_transient_pair_kinds(core::KindRegistry& registry) {
   core::KindEntry entry{"transient_pair", "",
                         "undrained shear from rest, DEM and continuum side by side (one material)",
                         transient_pair_schema(), check_transient_pair_case,
-                        run_transient_pair_case, "cases/pair/undrained_loose_pair.yaml"};
+                        run_transient_pair_case, "cases/transient_pair/undrained_loose.yaml"};
   entry.check_inputs = check_transient_pair_inputs;
   entry.distributes_conditions = true;
   registry.add(std::move(entry));

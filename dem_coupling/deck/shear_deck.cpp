@@ -139,12 +139,6 @@ std::vector<std::pair<std::string, std::string>> check_shear_params(const ShearD
     issues.emplace_back("material.polydispersity", "in [0, 1)");
   if (!(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5))
     issues.emplace_back("material.poisson_ratio", "in (-1, 0.5)");
-  // A snapshot holds every particle (~100 bytes each): at most 1000 per run.
-  if (p.snapshot_strain > 0.0 && p.total_strain / p.snapshot_strain > 1000.0)
-    issues.emplace_back("output.snapshot_strain",
-                        fmt::format("0 or at least strain.total / 1000 = {:.3g} (at most 1000 "
-                                    "snapshots)",
-                                    p.total_strain / 1000.0));
   if (!(m.restitution > 0.0 && m.restitution <= 1.0))
     issues.emplace_back("material.restitution", "in (0, 1] (the contact damping needs e > 0)");
   // LIGGGHTS' own bounds on the material of its hertz model (global_properties.cpp, SI units:

@@ -58,6 +58,8 @@ core::Schema prepare_schema() {
   auto copy = [&](const std::string& section, const std::vector<std::string>& skip) {
     const core::Field* from = shear.child(section);
     core::Field to(from->key(), from->type(), from->unit(), from->doc());
+    // The material has no defaults for its sizes: a missing section is a case error.
+    if (from->is_required() || section == "material") to.required();
     for (const core::Field& child : from->children())
       if (std::find(skip.begin(), skip.end(), child.key()) == skip.end()) to.add(child);
     s.add(std::move(to));
@@ -65,6 +67,7 @@ core::Schema prepare_schema() {
   copy("material", {"particle_friction"});
   copy("dem", {"compression_steps"});
   auto& prep = s.section("preparation", "the state to prepare and when it is at rest");
+  prep.required();
   prep.number("pressure", "Pa", "target mean stress p0 = tr(σ)/3").required().greater_than(0);
   prep.number("friction", "",
               "contact friction during the preparation μ_prep (0: the densest random packing; "

@@ -51,13 +51,4 @@ TEST(DemSnapshots, ParticleFilesAReaderOpensAndTheRunIsUnchanged) {
   EXPECT_EQ(r.status, 0) << read(dir / "check.txt");
 }
 
-TEST(DemSnapshots, TooManySnapshotsIsACaseError) {
-  const auto dir = fresh_directory("snapshots_bad");
-  EXPECT_EQ(granflow_run(dir, {"--out", (dir / "x").string(), "--set",
-                               "output.snapshot_strain=0.0001"}),
-            2);
-  const std::string out = read(dir / "cli.txt");
-  EXPECT_NE(out.find("output.snapshot_strain"), std::string::npos) << out;
-}
-
 }  // namespace
