@@ -19,7 +19,11 @@ def series_plots(run, h5):
     g = h5["series"]
     strain = g["strain"][:]
     fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
-    axes[0].loglog(strain, g["granular_temperature"][:])
+    T = g["granular_temperature"][:]
+    axes[0].semilogx(strain, T)
+    # log in T only where it spans a decade or more (else log ticks are unreadable)
+    if np.all(T > 0) and T.max() > 10 * T.min():
+        axes[0].set_yscale("log")
     axes[0].set(xlabel="shear strain γ", ylabel="T [m²/s²]", title="granular temperature")
     axes[1].semilogx(strain, g["friction"][:])
     axes[1].set(xlabel="shear strain γ", ylabel="μ = τ/p", title="stress ratio")

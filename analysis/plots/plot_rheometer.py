@@ -134,19 +134,29 @@ def fields(run):
     times = np.array(times)
     wanted = [6e-4, 1.2e-3, 2.5e-3, times[-1]]
     picks = [files[i] for i in sorted(set(int(np.argmin(np.abs(times - w))) for w in wanted))]
-    fig, axes = plt.subplots(2, len(picks), figsize=(3.6 * len(picks), 7), squeeze=False)
-    for k, f in enumerate(picks):
+    frames = []
+    for f in picks:
         with h5py.File(f, "r") as h5:
-            t = float(np.ravel(h5.attrs["time"])[0])
             xy = h5["solid"]["xy"][:]
-            rc = h5["solid"]["r_c"][:] if "r_c" in h5["solid"] else np.zeros(len(xy))
-            n = h5["solid"]["porosity"][:]
-        sc = axes[0][k].scatter(xy[:, 0], xy[:, 1], c=rc / 1e3, s=3, cmap="viridis", vmin=0)
+            frames.append((float(np.ravel(h5.attrs["time"])[0]), xy,
+                           h5["solid"]["r_c"][:] / 1e3 if "r_c" in h5["solid"]
+                           else np.zeros(len(xy)), h5["solid"]["porosity"][:]))
+    # One colour scale per row across the times, so that the frames compare by colour.
+    rc_max = max(float(np.max(fr[2])) for fr in frames) or 1.0
+    n_min = min(float(np.min(fr[3])) for fr in frames)
+    n_max = max(float(np.max(fr[3])) for fr in frames)
+    fig, axes = plt.subplots(2, len(picks), figsize=(3.6 * len(picks), 7), squeeze=False)
+    for k, (t, xy, rc, n) in enumerate(frames):
+        sc = axes[0][k].scatter(xy[:, 0], xy[:, 1], c=rc, s=3, cmap="viridis", vmin=0,
+                                vmax=rc_max)
         fig.colorbar(sc, ax=axes[0][k], label="r_c [kPa]")
-        axes[0][k].set(title=f"r_c, t = {t*1e3:.3g} ms", aspect="equal")
-        sc = axes[1][k].scatter(xy[:, 0], xy[:, 1], c=n, s=3, cmap="coolwarm")
-        fig.colorbar(sc, ax=axes[1][k], label="n")
-        axes[1][k].set(title=f"porosity, t = {t*1e3:.3g} ms", aspect="equal")
+        axes[0][k].set(title=f"r_c, t = {t*1e3:.3g} ms", aspect="equal", xlabel="x [m]",
+                       ylabel="y [m]")
+        sc = axes[1][k].scatter(xy[:, 0], xy[:, 1], c=n, s=3, cmap="coolwarm", vmin=n_min,
+                                vmax=n_max)
+        fig.colorbar(sc, ax=axes[1][k], label="porosity n [-]")
+        axes[1][k].set(title=f"porosity, t = {t*1e3:.3g} ms", aspect="equal", xlabel="x [m]",
+                       ylabel="y [m]")
     fig.tight_layout()
     fig.savefig(os.path.join(run, "rheometer_fields.png"), dpi=110)
     plt.close(fig)
