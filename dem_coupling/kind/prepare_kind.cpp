@@ -112,30 +112,7 @@ PreparationParams read_preparation(const core::Case& c, long seed) {
   PreparationParams p;
   // The shear reader fills the material and run keys; the shear-only keys keep their defaults.
   ShearDeckParams& g = p.sample;
-  DemMaterial& m = g.material;
-  m.diameter = c.number("material.diameter");
-  m.particle_density = c.number("material.particle_density");
-  m.restitution = c.number("material.restitution");
-  m.particle_friction = c.number("preparation.friction");
-  m.youngs_modulus = c.number("material.youngs_modulus");
-  m.poisson_ratio = c.number("material.poisson_ratio");
-  const std::string size = c.string("material.size_distribution");
-  m.size = size == "bidisperse" ? SizeDistribution::bidisperse
-           : size == "uniform"  ? SizeDistribution::uniform
-                                : SizeDistribution::monodisperse;
-  m.size_ratio = c.number("material.size_ratio");
-  m.large_fraction = c.number("material.large_fraction");
-  m.polydispersity = c.number("material.polydispersity");
-  m.contact_law =
-      c.string("material.contact_law") == "hooke" ? ContactLaw::hooke : ContactLaw::hertz;
-  if (c.has("material.normal_stiffness"))
-    m.normal_stiffness = c.number("material.normal_stiffness");
-  m.tangential_stiffness_ratio = c.number("material.tangential_stiffness_ratio");
-  const std::string damping = c.string("material.tangential_damping");
-  m.tangential_damping = damping == "none" ? TangentialDamping::none
-                         : damping == "lammps_hooke_history"
-                             ? TangentialDamping::lammps_hooke_history
-                             : TangentialDamping::liggghts;
+  g.material = read_dem_material(c, c.number("preparation.friction"));
   g.particles = c.integer("dem.particles");
   g.seed = static_cast<unsigned long>(seed);
   g.dt_safety = c.number("dem.time_step_safety");

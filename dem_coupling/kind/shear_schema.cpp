@@ -193,13 +193,12 @@ core::Schema shear_schema() {
   return s;
 }
 
-ShearDeckParams read_shear_params(const core::Case& c) {
-  ShearDeckParams p;
-  DemMaterial& m = p.material;
+DemMaterial read_dem_material(const core::Case& c, double particle_friction) {
+  DemMaterial m;
   m.diameter = c.number("material.diameter");
   m.particle_density = c.number("material.particle_density");
   m.restitution = c.number("material.restitution");
-  m.particle_friction = c.number("material.particle_friction");
+  m.particle_friction = particle_friction;
   m.youngs_modulus = c.number("material.youngs_modulus");
   m.poisson_ratio = c.number("material.poisson_ratio");
   const std::string size = c.string("material.size_distribution");
@@ -214,6 +213,18 @@ ShearDeckParams read_shear_params(const core::Case& c) {
   if (c.has("material.normal_stiffness"))
     m.normal_stiffness = c.number("material.normal_stiffness");
   m.tangential_stiffness_ratio = c.number("material.tangential_stiffness_ratio");
+  const std::string damping = c.string("material.tangential_damping");
+  m.tangential_damping = damping == "none" ? TangentialDamping::none
+                         : damping == "lammps_hooke_history"
+                             ? TangentialDamping::lammps_hooke_history
+                             : TangentialDamping::liggghts;
+  return m;
+}
+
+ShearDeckParams read_shear_params(const core::Case& c) {
+  ShearDeckParams p;
+  p.material = read_dem_material(c, c.number("material.particle_friction"));
+  const DemMaterial& m = p.material;
   read_shear_start_keys(c, p);
   p.particles = c.integer("dem.particles");
   p.seed = static_cast<unsigned long>(c.integer("dem.seed"));

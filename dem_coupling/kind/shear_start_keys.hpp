@@ -29,11 +29,7 @@ inline void add_initial_temperature_key(core::Field& control) {
 }
 
 inline void read_shear_start_keys(const core::Case& c, ShearDeckParams& p) {
-  const std::string damping = c.string("material.tangential_damping");
-  p.material.tangential_damping = damping == "none" ? TangentialDamping::none
-                                  : damping == "lammps_hooke_history"
-                                      ? TangentialDamping::lammps_hooke_history
-                                      : TangentialDamping::liggghts;
+  // (material.tangential_damping is read with the material: read_dem_material)
   if (c.has("control.initial_temperature"))
     p.initial_temperature = c.number("control.initial_temperature");
 }
