@@ -55,14 +55,14 @@ def main(argv):
     for k, d in enumerate(data):
         color = "C{}".format(k)
         s = d["strain"]
-        for ax, name in ((ax_p, "p"), (ax_t, "tau")):
+        for ax, name in ((ax_p, "mean_stress"), (ax_t, "shear_stress")):
             ax.fill_between(s, d[name + "_min"] / d["p0"], d[name + "_max"] / d["p0"],
                             color=color, alpha=0.25, lw=0)
             ax.plot(s, d[name + "_mean"] / d["p0"], color=color, lw=1.4, label=d["label"])
         ax_p.axhline(d["fraction"], color="k", ls=":", lw=1)
     ax_p.set_yscale("log")
     ax_t.set_yscale("log")  # dense packings dilate: tau and p grow by decades
-    ax_p.set_ylabel("p' / p0  (tr(sigma)/3)")
+    ax_p.set_ylabel("p' / p0  (mean stress tr(sigma)/3)")
     ax_t.set_ylabel("tau / p0")
     for ax in (ax_p, ax_t):
         ax.set_xlabel("shear strain gamma")

@@ -1,8 +1,7 @@
 #!/usr/bin/env python3
 """PNG plot of a `kind: transient_pair` run (docs/transient_pairs.md): the undrained shear from
-rest in the DEM (seed mean and band, lowest to highest seed, from dem/result.h5
-/transient/group_G) and in the continuum (the REV's steps, /transient_pair/group_G of
-result.h5), p'(gamma)/p0 and tau(gamma)/p0, one colour per condition, the continuum with
+rest in the DEM (seed mean and band, lowest to highest seed: dem_* of /transient_pair/group_G)
+and in the continuum (the REV's steps, the same group), p'(gamma)/p0 and tau(gamma)/p0, one colour per condition, the continuum with
 fitted force-chain parameters (calibrate section) dotted; the liquefaction threshold f p0 dotted
 black. Usage: plot_transient_pair.py RUN_DIR  ->  RUN_DIR/transient_pair.png"""
 import os
@@ -17,21 +16,21 @@ import numpy as np  # noqa: E402
 
 
 def main(run):
-    with h5py.File(os.path.join(run, "result.h5"), "r") as f_cont, \
-            h5py.File(os.path.join(run, "dem", "result.h5"), "r") as f_dem:
+    with h5py.File(os.path.join(run, "result.h5"), "r") as f_cont:
         names = sorted(f_cont["transient_pair"].keys(), key=lambda n: int(n.split("_")[-1]))
         fig, (ax_p, ax_t) = plt.subplots(1, 2, figsize=(11, 4.2))
         for k, name in enumerate(names):
-            cont, dem = f_cont["transient_pair"][name], f_dem["transient"][name]
+            cont = f_cont["transient_pair"][name]
             p0 = float(cont.attrs["p0"])
             color = "C{}".format(k)
             label = "phi0 {:.3f}, gamma_dot {:g} 1/s".format(float(cont.attrs["phi0"]),
                                                               float(cont.attrs["shear_rate"]))
-            s_dem = np.asarray(dem["strain"])
-            for ax, q in ((ax_p, "p"), (ax_t, "tau")):
-                ax.fill_between(s_dem, np.asarray(dem[q + "_min"]) / p0,
-                                np.asarray(dem[q + "_max"]) / p0, color=color, alpha=0.2, lw=0)
-                ax.plot(s_dem, np.asarray(dem[q + "_mean"]) / p0, color=color, lw=1.2,
+            s_dem = np.asarray(cont["dem_strain"])
+            for ax, q in ((ax_p, "mean_stress"), (ax_t, "shear_stress")):
+                ax.fill_between(s_dem, np.asarray(cont["dem_" + q + "_min"]) / p0,
+                                np.asarray(cont["dem_" + q + "_max"]) / p0, color=color,
+                                alpha=0.2, lw=0)
+                ax.plot(s_dem, np.asarray(cont["dem_" + q + "_mean"]) / p0, color=color, lw=1.2,
                         label="DEM " + label)
                 ax.plot(np.asarray(cont["strain"]), np.asarray(cont[q]) / p0, color=color,
                         lw=1.6, ls="--", label="continuum " + label)

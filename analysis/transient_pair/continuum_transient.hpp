@@ -3,6 +3,7 @@
 // parameters to a DEM transient (p'(γ), τ(γ) with the DEM's seed band).
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,7 @@ core::Case with_force_chain_values(const core::Case& condition, const core::Sche
 struct DemTransient {
   std::vector<double> strain, p_mean, p_min, p_max, tau_mean, tau_min, tau_max;
   double phi0 = 0, p0 = 0;
+  std::map<std::string, double> metric_err;  // between-seed standard error of each metric
 };
 
 struct TransientFit {

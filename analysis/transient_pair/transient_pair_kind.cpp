@@ -16,14 +16,16 @@
 #include "core/result_file.hpp"
 #include "core/sweep_scheduler.hpp"
 #include "dem_coupling/dem_kind.hpp"
+#include "dem_coupling/kind/dem_columns.hpp"
 #include "dem_coupling/kind/transient.hpp"
 
 namespace granflow::transient_pair {
 
 namespace {
 
-// Sections of a transient pair case that only the continuum reads.
-constexpr const char* continuum_sections[] = {"collisional", "force_chains", "continuum", "calibrate"};
+// Top-level keys of a transient pair case that the DEM part does not read.
+constexpr const char* continuum_sections[] = {"collisional", "force_chains", "continuum", "calibrate",
+                                              "dem_run"};
 
 // The DEM case of a transient pair case: the same file without the continuum-only sections,
 // kind: dem. `schema` must outlive the returned Case (it refers to it).
@@ -58,12 +60,37 @@ struct Thresholds {
   double liquefaction, residual;  // transient.liquefaction_fraction, transient.residual_fraction
 };
 
+// summary.json key of a metric: transient.SIDE.NAME, with .G for condition G of a sweep.
+std::string metric_key(const std::string& side, const std::string& name, const std::string& g) {
+  return "transient." + side + "." + name + g;
+}
+
+// The DEM's seed mean and band of condition `index` beside the continuum (one file holds the
+// pair): dem_strain and dem_NAME_{mean,min,max} for the band's columns.
+void write_dem_band(core::RunContext& ctx, const std::filesystem::path& dem_h5, std::size_t index,
+                    const std::string& group) {
+  const std::string from = fmt::format("/transient/group_{}/", index);
+  ctx.result.write(group + "/dem_strain", core::read_dataset(dem_h5, from + "strain"), "1",
+                   "shear strain of the DEM samples");
+  for (const auto& row : dem::dem_columns::transient_band)
+    for (const char* part :
+         {dem::dem_columns::band_mean, dem::dem_columns::band_min, dem::dem_columns::band_max}) {
+      const std::string name = std::string(row.column.name) + part;
+      ctx.result.write(group + "/dem_" + name, core::read_dataset(dem_h5, from + name),
+                       row.column.unit,
+                       core::read_string_attribute(dem_h5, from + name, "description") +
+                           " (DEM)");
+    }
+}
+
 // The continuum's undrained shear of one condition beside the DEM's: series under
-// group/{p,sigma_yy,tau,...}{suffix}, metrics of both sides under key. False (after logging and
-// writing the series so far) when the continuum stopped on a numerical failure.
+// group/NAME{suffix} (results vocabulary), metrics of both sides in summary.json
+// (transient.dem.NAME, transient.cont{suffix}.NAME, transient.rel_err{suffix}.NAME; `g` is the
+// condition suffix) and as attributes of the group. False (after logging and writing the series
+// so far) when the continuum stopped on a numerical failure.
 bool compare(core::RunContext& ctx, const core::Case& condition, const DemTransient& dem,
-             double dem_band_err, const Thresholds& limits, const std::string& group,
-             const std::string& key, const std::string& suffix, std::size_t index) {
+             const Thresholds& limits, const std::string& group, const std::string& g,
+             const std::string& suffix, std::size_t index) {
   rev::SimpleShearResult rev;
   bool failed = false;
   try {
@@ -73,17 +100,25 @@ bool compare(core::RunContext& ctx, const core::Case& condition, const DemTransi
     failed = true;  // the series so far are written below
   }
   const auto& s = rev.series;
+  namespace col = core::columns;
   const std::string model =
       suffix.empty() ? "continuum" : "continuum with the fitted force-chain parameters";
-  ctx.result.write(group + "/strain" + suffix, s.strain, "1", "shear strain of the " + model);
-  ctx.result.write(group + "/p" + suffix, s.pressure, "Pa",
-                   model + ": mean stress p' = p_COL + tr(σ_FC)/3 (the DEM's tr(P)/3)");
-  ctx.result.write(group + "/sigma_yy" + suffix, s.normal_stress, "Pa", model + ": σ_yy");
-  ctx.result.write(group + "/tau" + suffix, s.shear_stress, "Pa", model + ": shear stress τ");
-  ctx.result.write(group + "/tau_force_chains" + suffix, s.force_chain_shear_stress, "Pa",
-                   model + ": τ carried by the force chains");
-  ctx.result.write(group + "/granular_temperature" + suffix, s.granular_temperature, "m^2/s^2",
-                   model + ": granular temperature T");
+  const std::pair<core::Column, const std::vector<double>&> series[] = {
+      {col::strain, s.strain},
+      {col::described(col::mean_stress, "mean stress p' = p_COL + tr(σ_FC)/3 (the DEM's tr(P)/3)"),
+       s.pressure},
+      {col::normal_stress, s.normal_stress},
+      {col::shear_stress, s.shear_stress},
+      {col::described(col::shear_stress, "shear stress τ_FC carried by the force chains"),
+       s.force_chain_shear_stress},
+      {col::granular_temperature, s.granular_temperature},
+  };
+  for (std::size_t k = 0; k < std::size(series); ++k) {
+    const auto& [column, values] = series[k];
+    const std::string name = k == 4 ? "shear_stress_force_chains" : column.name;
+    ctx.result.write(group + "/" + name + suffix, values, column.unit,
+                     model + ": " + column.description);
+  }
   if (failed) {
     ctx.result.flush();
     return false;
@@ -93,35 +128,46 @@ bool compare(core::RunContext& ctx, const core::Case& condition, const DemTransi
   const auto cont_m = dem::transient_metrics(s.strain, s.pressure, s.shear_stress, dem.p0,
                                              limits.liquefaction, limits.residual);
   auto& sum = ctx.summary;
+  const std::string cont = "cont" + suffix;
+  const bool liq_dem = dem_m.liquefaction_strain >= 0, liq_cont = cont_m.liquefaction_strain >= 0;
   const std::pair<const char*, std::pair<double, double>> metrics[] = {
       {"peak_tau", {dem_m.peak_tau, cont_m.peak_tau}},
       {"peak_strain", {dem_m.peak_strain, cont_m.peak_strain}},
       {"residual_tau", {dem_m.residual_tau, cont_m.residual_tau}},
       {"residual_p", {dem_m.residual_p, cont_m.residual_p}},
+      {"p_final_over_p0", {dem_m.p_final_over_p0, cont_m.p_final_over_p0}},
+      {"liquefied", {liq_dem ? 1.0 : 0.0, liq_cont ? 1.0 : 0.0}},
   };
   for (const auto& [name, values] : metrics) {
-    sum.set(key + name + "_dem", values.first);
-    sum.set(key + name + "_cont" + suffix, values.second);
-    ctx.result.attribute(group, std::string(name) + "_dem", values.first);
-    ctx.result.attribute(group, std::string(name) + "_cont" + suffix, values.second);
+    if (suffix.empty()) {
+      sum.set(metric_key("dem", name, g), values.first);
+      ctx.result.attribute(group, std::string("dem_") + name, values.first);
+      if (const auto e = dem.metric_err.find(name); e != dem.metric_err.end())
+        sum.set(metric_key("dem", std::string(name) + "_err", g), e->second);
+    }
+    sum.set(metric_key(cont, name, g), values.second);
+    ctx.result.attribute(group, cont + "_" + name, values.second);
   }
-  sum.set(key + "rel_err_peak_tau" + suffix, relative_error(cont_m.peak_tau, dem_m.peak_tau));
-  const bool liq_dem = dem_m.liquefaction_strain >= 0, liq_cont = cont_m.liquefaction_strain >= 0;
-  sum.set(key + "liquefied_dem", liq_dem ? 1 : 0);
-  sum.set(key + "liquefied_cont" + suffix, liq_cont ? 1 : 0);
-  ctx.result.attribute(group, "liquefied_dem", liq_dem ? 1.0 : 0.0);
-  ctx.result.attribute(group, "liquefied_cont" + suffix, liq_cont ? 1.0 : 0.0);
-  if (liq_dem) sum.set(key + "liquefaction_strain_dem", dem_m.liquefaction_strain);
-  if (liq_cont) sum.set(key + "liquefaction_strain_cont" + suffix, cont_m.liquefaction_strain);
+  sum.set(metric_key("rel_err" + suffix, "peak_tau", g),
+          relative_error(cont_m.peak_tau, dem_m.peak_tau));
+  // The liquefaction strain is absent on the side that does not liquefy.
+  if (liq_dem && suffix.empty()) {
+    sum.set(metric_key("dem", "liquefaction_strain", g), dem_m.liquefaction_strain);
+    if (const auto e = dem.metric_err.find("liquefaction_strain"); e != dem.metric_err.end())
+      sum.set(metric_key("dem", "liquefaction_strain_err", g), e->second);
+  }
+  if (liq_cont) sum.set(metric_key(cont, "liquefaction_strain", g), cont_m.liquefaction_strain);
   if (liq_dem && liq_cont)
-    sum.set(key + "rel_err_liquefaction_strain" + suffix,
+    sum.set(metric_key("rel_err" + suffix, "liquefaction_strain", g),
             relative_error(cont_m.liquefaction_strain, dem_m.liquefaction_strain));
   // The residual τ against the DEM's seed band: its seed mean ± 2 standard errors (between
-  // seeds, the DEM's err_residual_tau) or ± 2 batch-means errors of the mean series' tail.
-  const double band_err = std::max(dem_m.residual_tau_err, dem_band_err);
+  // seeds) or ± 2 batch-means errors of the mean series' tail, whichever is larger.
+  const auto seed_err = dem.metric_err.find("residual_tau");
+  const double band_err = std::max(dem_m.residual_tau_err,
+                                   seed_err != dem.metric_err.end() ? seed_err->second : 0.0);
   const bool within = std::abs(cont_m.residual_tau - dem_m.residual_tau) <= 2.0 * band_err;
-  sum.set(key + "residual_tau_dem_err", band_err);
-  sum.set(key + "residual_tau_within_band" + suffix, within ? 1 : 0);
+  if (suffix.empty()) sum.set(metric_key("dem", "residual_tau_band", g), band_err);
+  sum.set(metric_key(cont, "residual_tau_within_band", g), within ? 1 : 0);
   ctx.log->info(
       "condition {}{} (φ0 = {:.4f}, p0 = {:.4g} Pa, γ̇ = {:g} 1/s): peak τ DEM {:.4g} Pa at γ = "
       "{:.3g}, continuum {:.4g} Pa at {:.3g} ({:+.1f} %); liquefied: DEM {}, continuum {}; "
@@ -134,6 +180,48 @@ bool compare(core::RunContext& ctx, const core::Case& condition, const DemTransi
       dem_m.residual_tau, 2.0 * band_err, cont_m.residual_tau,
       within ? " (within the DEM band)" : "");
   return true;
+}
+
+// The completed `kind: dem` run of `dem_run`, resolved from the working directory, then beside
+// the case file.
+std::filesystem::path dem_run_directory(const core::Case& c) {
+  const std::filesystem::path p(c.string("dem_run"));
+  if (p.is_absolute() || std::filesystem::exists(p)) return std::filesystem::absolute(p);
+  const auto beside_case = std::filesystem::path(c.origin()).parent_path() / p;
+  return std::filesystem::exists(beside_case) ? std::filesystem::absolute(beside_case) : p;
+}
+
+// A `dem_run` must be a finished kind: dem run of this case's DEM part: its /transient groups
+// are the conditions, in sweep order, at the same shear rates.
+void check_dem_run(const core::Case& c) {
+  const auto dir = dem_run_directory(c);
+  const auto expected = [&](const std::string& why) {
+    c.fail("dem_run", fmt::format("a finished kind: dem run of this case's conditions ({}); {}",
+                                  dir.string(), why));
+  };
+  if (!std::filesystem::is_directory(dir)) expected("not a directory");
+  if (!std::filesystem::exists(dir / "case.yaml") || core::peek_kind(dir / "case.yaml").first != "dem")
+    expected("its case.yaml is not kind: dem");
+  core::KindRegistry registry;
+  const auto& entry = dem_entry(registry, c);
+  const core::Case run = core::Case::load(dir / "case.yaml", {}, entry.schema);
+  const auto theirs = run.expand_sweep();
+  const auto ours = c.expand_sweep();
+  if (theirs.size() != ours.size())
+    expected(fmt::format("it has {} conditions, this case {}", theirs.size(), ours.size()));
+  for (std::size_t g = 0; g < ours.size(); ++g) {
+    if (theirs[g].number("shear_rate") != ours[g].number("shear_rate"))
+      expected(fmt::format("condition {} is sheared at {:g} 1/s there, {:g} 1/s here", g,
+                           theirs[g].number("shear_rate"), ours[g].number("shear_rate")));
+    try {
+      core::read_number_attribute(dir / "result.h5", fmt::format("/transient/group_{}", g),
+                                  "mean_phi0");
+    } catch (const std::exception&) {
+      expected(fmt::format("its result.h5 has no /transient/group_{} (started from "
+                           "start.preparation, finished)",
+                           g));
+    }
+  }
 }
 
 }  // namespace
@@ -166,6 +254,10 @@ core::Schema transient_pair_schema() {
              "force_chains keys to fit (e.g. xi_psi beta_f), separated by spaces; none: no fit")
       .default_value("none");
   cal.integer("condition", "the condition (in sweep order) fitted").default_value("0").at_least(0);
+  s.string("dem_run",
+           "optional: a finished kind: dem run of this case's DEM part (the same conditions, from "
+           "start.preparation) whose transients are used instead of running the DEM again "
+           "(a refit, another continuum); from the working directory, else beside the case file");
   return s;
 }
 
@@ -202,6 +294,7 @@ void check_transient_pair_case(const core::Case& c) {
 // at its φ0: below the collisional closures' pole (model::maximum_solid_fraction).
 void check_transient_pair_inputs(const core::Case& c) {
   dem::check_preparation_inputs(c);
+  if (c.has("dem_run")) check_dem_run(c);
   for (const core::Case& condition : c.expand_sweep()) {
     const auto prepared = dem::read_prepared_state(condition, condition.integer("dem.seed"));
     const auto settings = continuum::read_multi_regime_settings(condition);
@@ -217,40 +310,55 @@ void check_transient_pair_inputs(const core::Case& c) {
 int run_transient_pair_case(core::RunContext& ctx) {
   const core::Case& c = ctx.run_case;
   auto& log = *ctx.log;
-  // ---- DEM side: the dem kind's own run function in RUN_DIR/dem/
-  core::KindRegistry registry;
-  const auto& entry = dem_entry(registry, c);
-  const core::Case d = dem_part(c, entry.schema);
-  const auto dem_dir = ctx.directory.path() / "dem";
-  log.info("DEM part: kind dem in {} (log: dem/log.txt)", dem_dir.string());
-  int code = 0;
-  {
-    core::RunContext dem_ctx(d, dem_dir, true, false);
-    code = entry.run(dem_ctx);
-    if (!core::owns_outputs()) return code;  // mpirun: the DEM seeds were shared out
-    if (core::interrupted()) dem_ctx.summary.set("run.interrupted", 1);
-    dem_ctx.finish();
-  }
-  if (core::interrupted()) return code;
-  if (code != core::exit_ok) {
-    log.error("the DEM part failed (exit {}); see {}", code, (dem_dir / "log.txt").string());
-    return code;
+  std::filesystem::path h5;
+  if (c.has("dem_run")) {  // ---- DEM side: a finished run
+    h5 = dem_run_directory(c) / "result.h5";
+    log.info("DEM part: the finished run {} (not run again)", h5.parent_path().string());
+  } else {  // ---- DEM side: the dem kind's own run function in RUN_DIR/dem/
+    core::KindRegistry registry;
+    const auto& entry = dem_entry(registry, c);
+    const core::Case d = dem_part(c, entry.schema);
+    const auto dem_dir = ctx.directory.path() / "dem";
+    log.info("DEM part: kind dem in {} (log: dem/log.txt)", dem_dir.string());
+    int code = 0;
+    {
+      core::RunContext dem_ctx(d, dem_dir, true, false);
+      code = entry.run(dem_ctx);
+      if (!core::owns_outputs()) return code;  // mpirun: the DEM seeds were shared out
+      if (core::interrupted()) dem_ctx.summary.set("run.interrupted", 1);
+      dem_ctx.finish();
+    }
+    if (core::interrupted()) return code;
+    if (code != core::exit_ok) {
+      log.error("the DEM part failed (exit {}); see {}", code, (dem_dir / "log.txt").string());
+      return code;
+    }
+    h5 = dem_dir / "result.h5";
   }
 
-  const auto h5 = dem_dir / "result.h5";
   const std::vector<core::Case> conditions = c.expand_sweep();
   std::vector<DemTransient> dem_side;
+  namespace band = dem::dem_columns;
+  const std::string p_name = band::transient_band[0].column.name;    // p'
+  const std::string tau_name = band::transient_band[1].column.name;  // τ
   for (std::size_t g = 0; g < conditions.size(); ++g) {
-    const std::string group = fmt::format("/transient/group_{}", g);
+    const std::string group = fmt::format("/transient/group_{}/", g);
     DemTransient t;
     t.phi0 = core::read_number_attribute(h5, group, "mean_phi0");
     t.p0 = core::read_number_attribute(h5, group, "mean_p0");
-    t.strain = core::read_dataset(h5, group + "/strain");
-    for (auto [member, name] :
-         {std::pair{&DemTransient::p_mean, "p_mean"}, {&DemTransient::p_min, "p_min"},
-          {&DemTransient::p_max, "p_max"}, {&DemTransient::tau_mean, "tau_mean"},
-          {&DemTransient::tau_min, "tau_min"}, {&DemTransient::tau_max, "tau_max"}})
-      t.*member = core::read_dataset(h5, group + "/" + name);
+    t.strain = core::read_dataset(h5, group + core::columns::strain.name);
+    t.p_mean = core::read_dataset(h5, group + p_name + band::band_mean);
+    t.p_min = core::read_dataset(h5, group + p_name + band::band_min);
+    t.p_max = core::read_dataset(h5, group + p_name + band::band_max);
+    t.tau_mean = core::read_dataset(h5, group + tau_name + band::band_mean);
+    t.tau_min = core::read_dataset(h5, group + tau_name + band::band_min);
+    t.tau_max = core::read_dataset(h5, group + tau_name + band::band_max);
+    for (const char* name : {"peak_tau", "peak_strain", "residual_tau", "residual_p",
+                             "p_final_over_p0", "liquefaction_strain"})
+      try {
+        t.metric_err[name] = core::read_number_attribute(h5, group, std::string("err_") + name);
+      } catch (const std::exception&) {  // no seed liquefied: no liquefaction strain
+      }
     dem_side.push_back(std::move(t));
   }
 
@@ -268,45 +376,44 @@ int run_transient_pair_case(core::RunContext& ctx) {
     for (std::size_t j = 0; j < fit_names.size(); ++j) {
       log.info("  {} = {:.6g} ± {:.3g} (start {:.6g}){}", fit_names[j], fit.estimate[j],
                fit.standard_error[j], fit.start[j], fit.at_bound[j] ? " (on its bound)" : "");
-      sum.set("transient_pair.fit." + fit_names[j], fit.estimate[j]);
-      sum.set("transient_pair.fit." + fit_names[j] + "_err", fit.standard_error[j]);
-      sum.set("transient_pair.fit." + fit_names[j] + "_start", fit.start[j]);
+      sum.set("transient.fit." + fit_names[j], fit.estimate[j]);
+      sum.set("transient.fit." + fit_names[j] + "_err", fit.standard_error[j]);
+      sum.set("transient.fit." + fit_names[j] + "_start", fit.start[j]);
     }
     log.info("  χ²_red {:.4g} (start {:.4g}), {} REV runs{}", fit.chi2_red,
              fit.chi2_initial / std::max(1, fit.points - int(fit_names.size())), fit.evaluations,
              fit.converged ? "" : ", not converged");
-    sum.set("transient_pair.fit.chi2_red", fit.chi2_red);
-    sum.set("transient_pair.fit.evaluations", fit.evaluations);
-    sum.set("transient_pair.fit.converged", fit.converged ? 1 : 0);
-    sum.set("transient_pair.fit.condition", double(fitted));
+    sum.set("transient.fit.chi2_red", fit.chi2_red);
+    sum.set("transient.fit.evaluations", fit.evaluations);
+    sum.set("transient.fit.converged", fit.converged ? 1 : 0);
+    sum.set("transient.fit.condition", double(fitted));
   }
 
   // ---- continuum side, condition by condition (the DEM's /transient/group_G, in sweep order)
   const Thresholds limits{c.number("transient.liquefaction_fraction"),
                           c.number("transient.residual_fraction")};
   for (std::size_t g = 0; g < conditions.size(); ++g) {
-    const std::string key = conditions.size() > 1 ? fmt::format("transient_pair.{}.", g)
-                                                  : std::string("transient_pair.");
+    const std::string key = conditions.size() > 1 ? fmt::format(".{}", g) : std::string();
     const std::string group = fmt::format("/transient_pair/group_{}", g);
     ctx.result.attribute(group, "phi0", dem_side[g].phi0);
     ctx.result.attribute(group, "p0", dem_side[g].p0);
     ctx.result.attribute(group, "shear_rate", conditions[g].number("shear_rate"));
     ctx.result.attribute(group, "liquefaction_fraction", limits.liquefaction);
-    sum.set(key + "phi0", dem_side[g].phi0);
-    sum.set(key + "p0", dem_side[g].p0);
-    const double band = core::read_number_attribute(h5, fmt::format("/transient/group_{}", g),
-                                                    "err_residual_tau");
-    if (!compare(ctx, conditions[g], dem_side[g], band, limits, group, key, "", g))
+    ctx.result.attribute(group, "dem_result", h5.string());
+    sum.set("transient.phi0" + key, dem_side[g].phi0);
+    sum.set("transient.p0" + key, dem_side[g].p0);
+    write_dem_band(ctx, h5, g, group);
+    if (!compare(ctx, conditions[g], dem_side[g], limits, group, key, "", g))
       return core::exit_numerical;
     if (!estimate.empty()) {
       const core::Case calibrated =
           with_force_chain_values(conditions[g], schema, fit_names, estimate);
-      if (!compare(ctx, calibrated, dem_side[g], band, limits, group, key, "_cal", g))
+      if (!compare(ctx, calibrated, dem_side[g], limits, group, key, "_cal", g))
         return core::exit_numerical;
-      sum.set(key + "held_out", g == fitted ? 0 : 1);
+      sum.set("transient.held_out" + key, g == fitted ? 0 : 1);
     }
   }
-  sum.set("transient_pair.count", double(conditions.size()));
+  sum.set("transient.conditions", double(conditions.size()));
   ctx.result.flush();
   ctx.plot("plot_transient_pair.py");
   return core::exit_ok;

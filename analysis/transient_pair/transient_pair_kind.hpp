@@ -13,6 +13,9 @@ namespace granflow::transient_pair {
 
 core::Schema transient_pair_schema();
 void check_transient_pair_case(const core::Case& c);
+// Before the run (KindEntry::check_inputs): the prepared states exist, the continuum can start at
+// their φ0, and a `dem_run` is a finished kind: dem run of the same conditions.
+void check_transient_pair_inputs(const core::Case& c);
 int run_transient_pair_case(core::RunContext& ctx);
 
 void register_transient_pair_kinds(core::KindRegistry& registry);

@@ -143,6 +143,24 @@ inline constexpr DemColumn wet_series[] = {
     {"lubricated_pairs", {"lubricated_pairs", "1", "number of pairs with h < h_max"}},
 };
 
+// A transient from a prepared packing (dem_coupling/kind/transient.hpp): the series.tsv columns
+// whose seed mean and band are written to /transient/group_G as NAME_mean, NAME_min, NAME_max.
+// The first two rows are the ones the transient metrics use (p', τ).
+inline constexpr DemColumn transient_band[] = {
+    {"p", described(c::mean_stress,
+                    "effective mean stress p' = tr(P)/3 (immersed: without the hydrodynamic part)")},
+    {"tau", described(c::shear_stress, "shear stress τ = −P_xy")},
+    {"sigma_yy", described(c::normal_stress, "normal stress σ_yy = P_yy")},
+    {"T", described(c::granular_temperature, "T about the Lees-Edwards streaming profile")},
+    {"Z_nr", {"coordination_number_nonrattler", "1",
+              "coordination number without rattlers (< 2 contacts, removed repeatedly)"}},
+    {"nonrattler_fraction",
+     {"nonrattler_fraction", "1", "fraction of the particles that are not rattlers"}},
+};
+inline constexpr const char* band_mean = "_mean";  // seed mean, sample by sample
+inline constexpr const char* band_min = "_min";    // lowest seed
+inline constexpr const char* band_max = "_max";    // highest seed
+
 }  // namespace dem_columns
 
 // The row of `key` in `table`, or nullptr.

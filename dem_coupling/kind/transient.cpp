@@ -7,6 +7,7 @@
 #include <fstream>
 #include <limits>
 
+#include "dem_coupling/kind/dem_columns.hpp"
 #include "dem_coupling/kind/prepare_kind.hpp"
 #include "dem_coupling/kind/series_table.hpp"
 #include "statistics/steady_state.hpp"
@@ -151,23 +152,24 @@ void TransientShear::absorb(core::RunContext& ctx, std::size_t n, const std::fil
   const PreparedState s = read_prepared_state(ctx.run_case, long(p.seed));
   Point& point = points_[n];
   point.strain = t.at("strain");
-  // Immersed runs: p' is the effective (solid) mean stress, the hydrodynamic part of the virial
-  // (lubrication + drag, series column p_fluid) taken out; dry runs: p.
-  point.p = t.at("p");
-  if (t.columns.count("p_fluid"))
-    for (std::size_t i = 0; i < point.p.size(); ++i) point.p[i] -= t.at("p_fluid")[i];
-  point.sigma_yy = t.at("sigma_yy");
-  point.tau = t.at("tau");
-  point.z_nr = t.at("Z_nr");
-  point.nonrattler = t.at("nonrattler_fraction");
+  for (const DemColumn& column : dem_columns::transient_band) {
+    std::vector<double> v = t.at(column.key);
+    // Immersed runs: p' is the effective (solid) mean stress, the hydrodynamic part of the virial
+    // (lubrication + drag, series column p_fluid) taken out; dry runs: p.
+    if (std::string_view(column.key) == "p" && t.columns.count("p_fluid"))
+      for (std::size_t i = 0; i < v.size(); ++i) v[i] -= t.at("p_fluid")[i];
+    point.band.push_back(std::move(v));
+  }
+  const std::vector<double>& p_eff = point.band[0];  // transient_band: p', then τ
   point.p0 = s.p;
   point.phi0 = s.phi;
-  point.metrics = transient_metrics(point.strain, point.p, point.tau, s.p, fraction_, residual_);
+  point.metrics =
+      transient_metrics(point.strain, p_eff, point.band[1], s.p, fraction_, residual_);
   const TransientMetrics& m = point.metrics;
   const std::pair<const char*, double> values[] = {
       {"p0", s.p},
       {"phi0", s.phi},
-      {"first_p_over_p0", point.p.front() / s.p},
+      {"first_p_over_p0", p_eff.front() / s.p},
       {"peak_tau", m.peak_tau},
       {"peak_strain", m.peak_strain},
       {"liquefied", m.liquefaction_strain >= 0.0 ? 1.0 : 0.0},
@@ -208,31 +210,28 @@ void TransientShear::finish(core::RunContext& ctx, const std::vector<Condition>&
     for (const Point* m : members) rows = std::min(rows, m->strain.size());
     const std::string group = fmt::format("/transient/group_{}", g);
     const std::string key_suffix = several ? fmt::format(".{}", g) : std::string();
-    auto band = [&](std::vector<double> Point::*series, const char* name, const char* unit,
-                    const char* doc) {
+    std::vector<double> strain(members.front()->strain.begin(),
+                               members.front()->strain.begin() + long(rows));
+    ctx.result.write(group + "/" + core::columns::strain.name, strain, core::columns::strain.unit,
+                     "shear strain of the samples");
+    for (std::size_t k = 0; k < std::size(dem_columns::transient_band); ++k) {
+      const core::Column& column = dem_columns::transient_band[k].column;
       std::vector<double> mean(rows), low(rows), high(rows);
       for (std::size_t i = 0; i < rows; ++i) {
         double sum = 0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
         for (const Point* m : members) {
-          const double v = (m->*series)[i];
+          const double v = m->band[k][i];
           sum += v, lo = std::min(lo, v), hi = std::max(hi, v);
         }
         mean[i] = sum / double(members.size()), low[i] = lo, high[i] = hi;
       }
-      ctx.result.write(group + "/" + name + "_mean", mean, unit,
-                       std::string(doc) + ": mean over the seeds, sample by sample");
-      ctx.result.write(group + "/" + name + "_min", low, unit, std::string(doc) + ": lowest seed");
-      ctx.result.write(group + "/" + name + "_max", high, unit,
-                       std::string(doc) + ": highest seed");
-    };
-    std::vector<double> strain(members.front()->strain.begin(),
-                               members.front()->strain.begin() + long(rows));
-    ctx.result.write(group + "/strain", strain, "1", "shear strain of the samples");
-    band(&Point::p, "p", "Pa", "mean stress p' = tr(P)/3");
-    band(&Point::sigma_yy, "sigma_yy", "Pa", "normal stress σ_yy");
-    band(&Point::tau, "tau", "Pa", "shear stress τ");
-    band(&Point::z_nr, "Z_nr", "1", "coordination without rattlers");
-    band(&Point::nonrattler, "nonrattler_fraction", "1", "non-rattler fraction");
+      const std::string name = group + "/" + column.name;
+      const std::string doc = column.description;
+      ctx.result.write(name + dem_columns::band_mean, mean, column.unit,
+                       doc + ": mean over the seeds, sample by sample");
+      ctx.result.write(name + dem_columns::band_min, low, column.unit, doc + ": lowest seed");
+      ctx.result.write(name + dem_columns::band_max, high, column.unit, doc + ": highest seed");
+    }
     // Metrics: mean over the seeds and its standard error (between-seed sd / sqrt(N)).
     auto stats = [&](auto get, const char* name) {
       std::vector<double> v;

@@ -69,7 +69,8 @@ class TransientShear {
 
  private:
   struct Point {
-    std::vector<double> strain, p, sigma_yy, tau, z_nr, nonrattler;
+    std::vector<double> strain;
+    std::vector<std::vector<double>> band;  // one series per row of dem_columns::transient_band
     TransientMetrics metrics;
     double p0 = 0, phi0 = 0;
   };

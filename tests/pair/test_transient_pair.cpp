@@ -3,6 +3,7 @@
 // REV from the same φ0, p0 and γ̇ (I0 = 0.01) over 0.3 strain (~20-40 s in all).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -102,12 +103,12 @@ TEST(TransientPair, LoosePackingInTheDemAndTheContinuum) {
   const auto s = core::Summary::read(dir / "run" / "summary.json");
   const auto prep = core::Summary::read(dir / "prep" / "summary.json");
   // Both sides start from the prepared state.
-  EXPECT_DOUBLE_EQ(s.get("transient_pair.phi0"), prep.get("prepared.phi"));
-  EXPECT_DOUBLE_EQ(s.get("transient_pair.p0"), prep.get("prepared.p"));
+  EXPECT_DOUBLE_EQ(s.get("transient.phi0"), prep.get("prepared.phi"));
+  EXPECT_DOUBLE_EQ(s.get("transient.p0"), prep.get("prepared.p"));
   const auto h5 = dir / "run" / "result.h5";
-  const auto p = core::read_dataset(h5, "/transient_pair/group_0/p");
-  const auto tau = core::read_dataset(h5, "/transient_pair/group_0/tau");
-  const auto sigma_yy = core::read_dataset(h5, "/transient_pair/group_0/sigma_yy");
+  const auto p = core::read_dataset(h5, "/transient_pair/group_0/mean_stress");
+  const auto tau = core::read_dataset(h5, "/transient_pair/group_0/shear_stress");
+  const auto sigma_yy = core::read_dataset(h5, "/transient_pair/group_0/normal_stress");
   const auto strain = core::read_dataset(h5, "/transient_pair/group_0/strain");
   ASSERT_GT(p.size(), 100u);
   EXPECT_NEAR(strain.back(), 0.3, 1e-3);  // run through the DEM's strain, no steady stop
@@ -116,7 +117,7 @@ TEST(TransientPair, LoosePackingInTheDemAndTheContinuum) {
   // critical stress ratio in simple shear (calibration::critical_state_friction). Within 1 %:
   // p also holds p_COL, which at the REV's T (~1e-6 m²/s²) is < 0.5 % of p' here, and the
   // exponential approach (decay strain ~0.05 at this ψ) is complete to < 1e-3 by γ = 0.3.
-  const double e0 = 1.0 / s.get("transient_pair.phi0") - 1.0;
+  const double e0 = 1.0 / s.get("transient.phi0") - 1.0;
   const double p_cs = p_ref * (e_gamma - e0) / lambda_c;
   EXPECT_NEAR(p.back() / p_cs, 1.0, 0.01) << "p_cs(e0) = " << p_cs;
   const auto settings = continuum::read_multi_regime_settings(c);
@@ -124,14 +125,80 @@ TEST(TransientPair, LoosePackingInTheDemAndTheContinuum) {
                   calibration::critical_state_friction(settings.force_chain_parameters),
               1.0, 0.01);
   // The continuum liquefies only if its critical state at e0 lies below 5 % of p0.
-  EXPECT_EQ(s.get("transient_pair.liquefied_cont"), p_cs < 0.05 * s.get("transient_pair.p0"));
+  EXPECT_EQ(s.get("transient.cont.liquefied"), p_cs < 0.05 * s.get("transient.p0"));
   // The DEM's loose packing (φ0 ≈ 0.57 < φ_c ≈ 0.585 at μ_p = 0.5) does liquefy, and the pair
   // reports the DEM run's own verdict.
   const auto dem = core::Summary::read(dir / "run" / "dem" / "summary.json");
-  EXPECT_EQ(s.get("transient_pair.liquefied_dem"), dem.get("transient.liquefied"));
-  EXPECT_EQ(s.get("transient_pair.liquefied_dem"), 1.0);
-  EXPECT_DOUBLE_EQ(s.get("transient_pair.peak_tau_dem"), dem.get("transient.peak_tau"));
+  EXPECT_EQ(s.get("transient.dem.liquefied"), dem.get("transient.liquefied"));
+  EXPECT_EQ(s.get("transient.dem.liquefied"), 1.0);
+  EXPECT_DOUBLE_EQ(s.get("transient.dem.peak_tau"), dem.get("transient.peak_tau"));
   EXPECT_TRUE(std::filesystem::exists(dir / "run" / "transient_pair.png"));
+  // The DEM's band is in the pair's own file, the same numbers as the DEM run's.
+  EXPECT_EQ(core::read_dataset(h5, "/transient_pair/group_0/dem_mean_stress_mean"),
+            core::read_dataset(dir / "run" / "dem" / "result.h5",
+                               "/transient/group_0/mean_stress_mean"));
+
+  // The same pair from the finished DEM run (dem_run): the DEM is not run again and every
+  // number is the same (the continuum is deterministic).
+  const auto again = core::Case::parse(pair_case(dir / "prep"), "tiny.yaml",
+                                       {"dem_run=" + (dir / "run" / "dem").string()}, schema);
+  check_transient_pair_case(again);
+  check_transient_pair_inputs(again);
+  {
+    core::RunContext ctx(again, dir / "again", true, true);
+    ASSERT_EQ(run_transient_pair_case(ctx), core::exit_ok);
+    ctx.finish();
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "again" / "dem"));
+  const auto t = core::Summary::read(dir / "again" / "summary.json");
+  for (const char* key : {"transient.dem.peak_tau", "transient.dem.residual_tau",
+                          "transient.cont.peak_tau", "transient.cont.residual_p", "transient.phi0"})
+    EXPECT_EQ(t.get(key), s.get(key)) << key;
+  // A dem_run that is no DEM run (the preparation) is one case error naming the key.
+  const auto wrong = core::Case::parse(pair_case(dir / "prep"), "tiny.yaml",
+                                       {"dem_run=" + (dir / "prep").string()}, schema);
+  try {
+    check_transient_pair_inputs(wrong);
+    ADD_FAILURE() << "a dem_prepare run accepted as dem_run";
+  } catch (const core::CaseError& e) {
+    EXPECT_NE(std::string(e.what()).find("dem_run"), std::string::npos) << e.what();
+  }
+}
+
+// The known continuum result behind the pair: constant-volume simple shear liquefies a loose
+// sample and not a dense one. With the quasi-static line e_cs = e_Γ − λ_c p/p_ref (e_Γ 0.71,
+// λ_c 0.01) the skeleton at constant e0 heads for its critical pressure p_cs(e0) = p_ref (e_Γ −
+// e0)/λ_c: none for the loose e0 = 0.741 (φ0 0.5745, above e_Γ: p' -> 0, liquefaction), 433 Pa for
+// e0 = 0.667 (φ0 0.600, below the line at p0: dilative, p' rises from p0 = 100 Pa).
+TEST(TransientPair, ContinuumLiquefiesALooseSampleNotADenseOne) {
+  const auto schema = transient_pair_schema();
+  const auto c = core::Case::parse(
+      pair_case("unused"), "tiny.yaml",
+      {"force_chains.e_Gamma=0.71", "force_chains.lambda_c=0.01", "collisional.jamming_fraction=0.62",
+       "strain.total=1"},
+      schema);
+  const double p0 = 100.0;
+  rev::SimpleShearResult loose, dense;
+  continuum_transient(c, 0.5745, p0, loose);
+  continuum_transient(c, 0.600, p0, dense);
+  const auto& pl = loose.series.pressure;
+  const auto& pd = dense.series.pressure;
+  // Loose: p' falls below 5 % of p0 (the liquefaction threshold) and stays there; what is left is
+  // kinetic theory's p_COL at the REV's T (measured ~0.1 Pa).
+  EXPECT_LT(pl.back(), 0.05 * p0);
+  EXPECT_LT(*std::max_element(pl.end() - 50, pl.end()), 0.05 * p0);
+  // Dense: a brief contraction first (the skeleton starts on its yield locus; measured minimum
+  // 0.74 p0 at γ = 0.004), far from the threshold, then dilation against the fixed volume to its
+  // critical state: p_cs(e0) within 1 % by γ = 1 (the collisional share at this T is < 0.5 %;
+  // measured 0.93 p_cs at γ = 0.3 and 1.0002 p_cs at γ = 1).
+  EXPECT_GT(*std::min_element(pd.begin(), pd.end()), 0.5 * p0);
+  EXPECT_GT(pd.back(), 4.0 * p0);
+  const double e0 = 1.0 / 0.600 - 1.0, p_cs = p_ref * (0.71 - e0) / 0.01;
+  EXPECT_NEAR(pd.back() / p_cs, 1.0, 0.01) << "p_cs(e0) = " << p_cs;
+  const auto low = std::min_element(pd.begin(), pd.end());
+  std::printf("dense: min p' %.4g Pa at γ %.4g, end %.4g Pa = %.4f p_cs; loose: end %.3g Pa\n",
+              *low, dense.series.strain[std::size_t(low - pd.begin())], pd.back(), pd.back() / p_cs,
+              pl.back());
 }
 
 // The fit recovers a force-chain parameter from a transient the continuum itself made (two paths:
