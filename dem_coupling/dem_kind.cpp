@@ -36,6 +36,8 @@ namespace {
 // limits.max_steps time steps, and >= 100 samples for the batch-means error bars.
 void check_run_length(const core::Case& c, const ShearDeckParams& p) {
   const ShearDeck timing = shear_deck_timing(p);
+  // The run length key: strain.max with strain.target_error, else strain.total.
+  const char* length_key = p.targets.any() ? "strain.max" : "strain.total";
   const double strain_per_step = p.shear_rate * timing.dt;
   const double steps = double(p.compression_steps) + p.total_strain / strain_per_step;
   const double max_steps = c.limit("max_steps");
@@ -46,32 +48,32 @@ void check_run_length(const core::Case& c, const ShearDeckParams& p) {
     const bool long_strain =
         p.total_strain > default_strain &&
         double(p.compression_steps) + default_strain / strain_per_step <= max_steps;
-    c.fail(long_strain ? "strain.total" : "shear_rate",
+    c.fail(long_strain ? length_key : "shear_rate",
            fmt::format("the run would take {:.3g} time steps (dem.compression_steps {} + "
-                       "strain.total {:g} / (shear_rate {:g} 1/s × Δt {:.3g} s, set by the {} "
+                       "{} {:g} / (shear_rate {:g} 1/s × Δt {:.3g} s, set by the {} "
                        "limit)); expected at most limits.max_steps = {:g} ({}, or raise "
                        "limits.max_steps to run it on purpose)",
-                       steps, p.compression_steps, p.total_strain, p.shear_rate, timing.dt,
-                       timing.dt_limit, max_steps,
-                       long_strain ? "a smaller strain.total" : "a larger shear_rate"));
+                       steps, p.compression_steps, length_key, p.total_strain, p.shear_rate,
+                       timing.dt, timing.dt_limit, max_steps,
+                       long_strain ? fmt::format("a smaller {}", length_key)
+                                   : std::string("a larger shear_rate")));
   }
   // At least a few samples per unit strain and a steady part long enough for batch means.
   const long samples = timing.total_steps / timing.sample_every;
   if (samples >= 100) return;
   if (p.total_strain / p.sample_strain < 100.0 * (1.0 - 1e-9))
-    c.fail("strain.sample",
-           fmt::format("at most strain.total/100 = {:g} (batch means need >= 100 samples)",
-                       p.total_strain / 100.0));
+    c.fail("strain.sample", fmt::format("at most {}/100 = {:g} (batch means need >= 100 samples)",
+                                        length_key, p.total_strain / 100.0));
   // strain.sample is small enough, but a time step is a large strain at this rate: rounded to
   // whole steps, a sample interval holds more strain than asked and the run fewer samples.
-  c.fail(
-      "shear_rate",
-      fmt::format("a time step is γ̇ Δt = {:.3g} strain (Δt = {:.3g} s, set by the {} limit), "
-                  "so strain.sample = {:g} takes {} steps = {:.3g} strain and strain.total = "
-                  "{:g} holds {} samples; expected >= 100 samples for the batch-means error "
-                  "bars (a lower shear_rate or dem.time_step_safety, or a larger strain.total)",
-                  strain_per_step, timing.dt, timing.dt_limit, p.sample_strain, timing.sample_every,
-                  double(timing.sample_every) * strain_per_step, p.total_strain, samples));
+  c.fail("shear_rate",
+         fmt::format("a time step is γ̇ Δt = {:.3g} strain (Δt = {:.3g} s, set by the {} limit), "
+                     "so strain.sample = {:g} takes {} steps = {:.3g} strain and {} = "
+                     "{:g} holds {} samples; expected >= 100 samples for the batch-means error "
+                     "bars (a lower shear_rate or dem.time_step_safety, or a larger {})",
+                     strain_per_step, timing.dt, timing.dt_limit, p.sample_strain,
+                     timing.sample_every, double(timing.sample_every) * strain_per_step, length_key,
+                     p.total_strain, samples, length_key));
 }
 
 void check_shear(const core::Case& sweep_case) {
@@ -82,7 +84,19 @@ void check_shear(const core::Case& sweep_case) {
     if (c.string("material.contact_law") == "hooke" && !c.has("material.normal_stiffness"))
       c.fail("material.normal_stiffness",
              "missing required key for contact_law: hooke; expected k_n > 0 [N/m]");
+    // strain.target_error needs the largest run, strain.max, which means nothing without it.
+    bool targets = false;
+    for (const char* name : target_observables)
+      targets = targets || c.has(std::string("strain.target_error.") + name);
+    if (targets && !c.has("strain.max"))
+      c.fail("strain.max",
+             "missing required key with strain.target_error; expected the largest shear strain "
+             "of the run (> 0)");
+    if (!targets && c.has("strain.max"))
+      c.fail("strain.max", "only with strain.target_error (the run length is strain.total)");
     const ShearDeckParams p = read_shear_params(c);
+    if (targets && !(p.check_strain >= p.sample_strain))
+      c.fail("strain.check", ">= strain.sample (the checks fall on samples)");
     const long seeds = c.integer("statistics.seeds");
     if (seeds > 1) {
       for (const auto& [key, value] : c.condition())
@@ -103,6 +117,45 @@ double dt_limit_index(const std::string& name) {
   for (std::size_t i = 0; i < std::size(names); ++i)
     if (name == names[i]) return double(i);
   return -1.0;
+}
+
+// strain.target_error: /steady columns strain_used, target_met and, per observable with a
+// target, achieved_error_NAME and target_met_NAME (flags 0/1; a failed point NaN and 0).
+void write_target_columns(const std::vector<PointResult>& results, core::ResultFile& out,
+                          std::vector<std::string>& column_names) {
+  auto column = [&](const std::string& key) {
+    std::vector<double> v;
+    for (const auto& r : results) {
+      const auto it = r.run_length.find(key);
+      v.push_back(it == r.run_length.end() ? std::numeric_limits<double>::quiet_NaN() : it->second);
+    }
+    return v;
+  };
+  auto flags = [&](const std::string& key) {
+    std::vector<long> f;
+    for (double x : column(key)) f.push_back(std::isfinite(x) ? std::lround(x) : 0L);
+    return f;
+  };
+  bool any = false;
+  for (const auto& r : results) any = any || !r.run_length.empty();
+  if (!any) return;
+  out.write("/steady/strain_used", column("used"), "1",
+            "shear strain the point ran (strain.target_error)");
+  out.write("/steady/target_met", flags("target_met"), "1",
+            "1 when the window is steady and every target of strain.target_error is met, else 0 "
+            "(stopped at strain.max)");
+  column_names.insert(column_names.end(), {"strain_used", "target_met"});
+  for (const char* name : target_observables) {
+    const std::string n = name;
+    bool given = false;
+    for (const auto& r : results) given = given || r.run_length.count("target_met." + n);
+    if (!given) continue;
+    out.write("/steady/achieved_error_" + n, column("achieved_error." + n), "1",
+              "standard error of " + n + " as strain.target_error measures it");
+    out.write("/steady/target_met_" + n, flags("target_met." + n), "1",
+              "1 when the error target of " + n + " is met, else 0");
+    column_names.insert(column_names.end(), {"achieved_error_" + n, "target_met_" + n});
+  }
 }
 
 int run_shear(core::RunContext& ctx) {
@@ -211,6 +264,11 @@ int run_shear(core::RunContext& ctx) {
     PointResult r = analyse_point(ctx, dir, group, p, deck);
     r.wall = wall;
     r.steps = double(deck.total_steps + deck.compression_steps);
+    if (p.targets
+            .any())  // the shear steps granflow-dem ran (driver_stats.tsv), fewer if it stopped
+      if (const SeriesTable stats = read_series_table(dir / "driver_stats.tsv");
+          stats.rows() == 1 && stats.columns.count("steps"))
+        r.steps = stats.at("steps")[0] + double(deck.compression_steps);
     r.particle_steps_per_s = r.particles * r.steps / wall;
     if (sweep)
       for (const auto& [key, value] : swept[n]) ctx.result.attribute(group, key, value);
@@ -238,6 +296,8 @@ int run_shear(core::RunContext& ctx) {
     }
     const std::string suffix = sweep ? fmt::format(".{}", n) : "";
     for (const auto& [name, value] : r.values) ctx.summary.set("steady." + name + suffix, value);
+    for (const auto& [name, value] : r.run_length)
+      ctx.summary.set("strain." + name + suffix, value);
     transient.absorb(ctx, n, dir, group, p, suffix);
     ctx.summary.set("dem.particles" + suffix, r.particles);
     ctx.summary.set("dem.dt" + suffix, r.dt);
@@ -248,6 +308,7 @@ int run_shear(core::RunContext& ctx) {
     total_particle_steps += r.particles * r.steps;
     total_dem_wall += wall;
     for (const std::string& w : r.warnings) ctx.log->warn("{}: {}", label, w);
+    for (const std::string& note : r.notes) ctx.log->info("{}: {}", label, note);
     if (!r.values.empty())
       ctx.log->info(
           "{}: {} from strain {:.3g}: μ = {:.4f} ± {:.4f}, φ = {:.4f} ± {:.4f}, "
@@ -316,6 +377,7 @@ int run_shear(core::RunContext& ctx) {
     out.write("/steady", column, *values);
     column_names.push_back(column.name);
   }
+  write_target_columns(results, out, column_names);
   const auto& c0 = ctx.run_case;
   out.attribute("/steady", "diameter", c0.number("material.diameter"));
   out.attribute("/steady", "particle_density", c0.number("material.particle_density"));

@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -12,6 +14,7 @@
 #include "analysis/calibration/calibrate_report.hpp"
 #include "analysis/calibration/calibration.hpp"
 #include "analysis/calibration/dem_table.hpp"
+#include "analysis/calibration/model_curves.hpp"
 #include "continuum/sections/model_sections.hpp"
 #include "core/file_io.hpp"
 
@@ -342,6 +345,8 @@ int run_calibrate_case(core::RunContext& ctx) {
             "1", "μ_p of the condition");
   out.write("/data/inertial_number", col([](const DataPoint& p) { return p.inertial_number; }), "1",
             "DEM I");
+  out.write("/data/liquid_viscosity", col([](const DataPoint& p) { return p.liquid_viscosity; }),
+            "Pa s", "liquid viscosity η0 of an immersed row (NaN: dry)");
   // Indices and flags as integers.
   const auto integers = [&](auto get) {
     std::vector<long> v;
@@ -383,6 +388,19 @@ int run_calibrate_case(core::RunContext& ctx) {
     std::vector<double> I;
     for (const auto& s : states) I.push_back(s.ok ? s.inertial_number : NAN);
     out.write("/prediction/" + group + "/inertial_number", I, "1", "continuum I");
+  }
+  {  // The model drawn smooth: /curve/N over the swept range of each series' condition variable
+     // (model_curves.hpp), and which series draws each row.
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto member =
+        write_model_curves(out, used, {{"uncalibrated", &start}, {"calibrated", &calibrated}});
+    out.write("/data/curve", member, "1",
+              "index N of the /curve/N series through this row's conditions (-1: none)");
+    const auto drawn = std::count_if(member.begin(), member.end(), [](long m) { return m >= 0; });
+    log.info("model curves: {} series through {} of {} rows, {:.3g} s",
+             member.empty() ? 0 : *std::max_element(member.begin(), member.end()) + 1, drawn,
+             member.size(),
+             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
   std::vector<double> residuals(training.size() * observables.size(), NAN);
   for (std::size_t j = 0; j < r.residual_point.size(); ++j)

@@ -7,6 +7,15 @@
 
 namespace granflow::dem {
 
+namespace {
+// Index in target_observables of a word "target_<observable>", else target_observables.size().
+std::size_t target_index(const std::string& name) {
+  for (std::size_t k = 0; k < target_observables.size(); ++k)
+    if (name == std::string("target_") + target_observables[k]) return k;
+  return target_observables.size();
+}
+}  // namespace
+
 std::string driver_parameter_lines(const DriverParameters& p) {
   std::string lines = fmt::format(
       "variable gf_shear_rate equal {:.17g}\n"
@@ -25,6 +34,15 @@ std::string driver_parameter_lines(const DriverParameters& p) {
       "variable gf_profile_bins equal {}\n"
       "variable gf_particle_density equal {:.17g}\n",
       p.profile_bins, p.particle_density);
+  if (p.targets.any()) {
+    for (std::size_t k = 0; k < target_observables.size(); ++k)
+      lines += fmt::format("variable gf_target_{} equal {:.17g}\n", target_observables[k],
+                           p.targets.error[k]);
+    lines += fmt::format(
+        "variable gf_check_every equal {}\n"
+        "variable gf_temperature_scale equal {:.17g}\n",
+        p.check_every, p.temperature_scale);
+  }
   return lines;
 }
 
@@ -55,6 +73,9 @@ DriverParameters driver_parameters_from_words(const std::vector<std::string>& wo
     else if (name == "servo_move_every") p.servo_move_every = integer;
     else if (name == "profile_bins") p.profile_bins = int(integer);
     else if (name == "particle_density") p.particle_density = value;
+    else if (name == "check_every") p.check_every = integer;
+    else if (name == "temperature_scale") p.temperature_scale = value;
+    else if (const auto k = target_index(name); k < target_observables.size()) p.targets.error[k] = value;
     else throw std::invalid_argument("'" + word + "': unknown parameter '" + name + "'");
   }
   if (!servo_every_given) p.servo_every = p.sample_every;

@@ -5,11 +5,30 @@
 // hand-written decks, so a variable the driver reads cannot be missing from either.
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace granflow::dem {
+
+// strain.target_error (docs/dem_dataset.md, "Error-targeted run length"): the observables whose
+// standard error in the steady window may end a run, in this order, and how each is measured:
+//   friction        se(μ)/μ  relative (μ 0.1-0.6: a relative error reads the same at every I)
+//   solid_fraction  se(φ)    absolute (φ 0.5-0.64; φ(I) fits and φ_c are compared in absolute
+//                            units, e.g. the 0.0037 offset of docs/dem_dataset.md)
+//   temperature     se(T)/T  relative (T spans decades over a sweep)
+inline constexpr std::array<const char*, 3> target_observables{"friction", "solid_fraction",
+                                                               "temperature"};
+
+struct ErrorTargets {
+  std::array<double, 3> error{};  // target of each observable above; 0: no target for it
+  bool any() const {
+    for (double e : error)
+      if (e > 0.0) return true;
+    return false;
+  }
+};
 
 struct DriverParameters {
   double shear_rate = 0.0;       // gf_shear_rate, 1/s (0: no shear, the box is held)
@@ -23,6 +42,13 @@ struct DriverParameters {
   std::optional<long> servo_move_every;  // gf_servo_move_every (immersed decks); unset: omitted
   int profile_bins = 2;          // gf_profile_bins: bins of the velocity profile across y
   double particle_density = 0.0;  // gf_particle_density, kg/m³
+  // Error-targeted run length, written only when targets.any() (a deck without them runs
+  // total_steps, unchanged): gf_target_<observable> (0: none), gf_check_every (steps between the
+  // checks, a multiple of the servo interval), gf_temperature_scale ((d γ̇)², m²/s², of the
+  // frozen check). total_steps is then the largest run (strain.max).
+  ErrorTargets targets;
+  long check_every = 0;
+  double temperature_scale = 0.0;
 };
 
 // "variable gf_<name> equal <value>" lines, reals with 17 significant digits (exact round trip).
@@ -34,7 +60,8 @@ std::string granular_atom_setup();
 // `granflow-dem --header NAME=VALUE ...`: DriverParameters from NAME=VALUE words (NAME a gf_*
 // variable without its prefix: shear_rate, total_steps, sample_every, constant_pressure,
 // normal_stress, servo_gain, servo_max_strain, servo_every, servo_move_every, profile_bins,
-// particle_density); servo_every defaults to sample_every. Throws std::invalid_argument naming a
+// particle_density, target_friction, target_solid_fraction, target_temperature, check_every,
+// temperature_scale); servo_every defaults to sample_every. Throws std::invalid_argument naming a
 // word that is not NAME=VALUE with a known NAME and a number.
 DriverParameters driver_parameters_from_words(const std::vector<std::string>& words);
 

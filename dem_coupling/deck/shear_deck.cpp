@@ -174,7 +174,8 @@ std::vector<std::pair<std::string, std::string>> check_shear_params(const ShearD
   if (!(p.initial_temperature < 0.0 || std::isfinite(p.initial_temperature)))
     issues.emplace_back("control.initial_temperature", "a finite T0/(d γ̇)² >= 0");
   if (p.particles < 8) issues.emplace_back("dem.particles", ">= 8");
-  if (!(p.sample_strain < p.total_strain)) issues.emplace_back("strain.sample", "< strain.total");
+  if (!(p.sample_strain < p.total_strain))
+    issues.emplace_back("strain.sample", p.targets.any() ? "< strain.max" : "< strain.total");
   if (p.wet.enabled) {
     const SizeRange s = size_range(m);
     // fix fluid/le refuses h_max >= smallest radius (a lubricated pair must not skip a sphere).
@@ -286,6 +287,12 @@ ShearDeck shear_deck_timing(const ShearDeckParams& p) {
   out.total_steps =
       std::max(1L, std::lround(double(steps_for(p.total_strain, p.shear_rate, out.dt)) / block)) *
       block;
+  // The checks of strain.target_error end on whole blocks, so a run stopped there is the first
+  // part of a fixed run of that length, step for step (the servo's segments are the same).
+  if (p.targets.any())
+    out.check_every =
+        std::max(1L, std::lround(double(steps_for(p.check_strain, p.shear_rate, out.dt)) / block)) *
+        block;
   return out;
 }
 
@@ -391,6 +398,10 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
   driver.servo_move_every = out.servo_move_every;
   driver.profile_bins = p.profile_bins;
   driver.particle_density = m.particle_density;
+  driver.targets = p.targets;
+  driver.check_every = out.check_every;
+  // (d γ̇)² as point_analysis.cpp forms it, so the frozen check is the same number
+  driver.temperature_scale = out.mean_diameter * p.shear_rate * out.mean_diameter * p.shear_rate;
   const double skin = 0.2 * out.mean_diameter;
   const double top_speed = p.shear_rate * out.box_length;
   // The start: the random gas compressed to φ (stage 1), or a prepared state read whole.

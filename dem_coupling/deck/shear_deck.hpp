@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "dem_coupling/deck/contact_time.hpp"
+#include "dem_coupling/deck/driver_parameters.hpp"
 #include "dem_coupling/fixes/fluid_time_step.hpp"
 
 namespace granflow::dem {
@@ -91,8 +92,12 @@ struct ShearDeckParams {
   double servo_max_strain = 0.002;  // largest relative height change per servo update
   double servo_strain = 0.1;        // shear strain between servo updates
   double shear_rate = 20.0;         // 1/s
-  double total_strain = 20.0;
+  double total_strain = 20.0;       // with targets: the largest run (strain.max)
   double sample_strain = 0.01;  // shear strain between samples
+  // strain.target_error: granflow-dem stops at the first check where the steady window is steady
+  // and its errors are within these (kind/steady_checks.hpp); none: it runs total_strain.
+  ErrorTargets targets;
+  double check_strain = 0.5;    // shear strain between those checks (strain.check)
   double dt_safety = 0.1;       // dt = dt_safety * min(t_Rayleigh, t_Hertz) (hooke: * t_c linear)
   double impact_speed_factor = 3.0;  // reference impact speed = factor * shear_rate * d_max
   int profile_bins = 10;
@@ -116,6 +121,9 @@ struct ShearDeck {
   FluidTimeScales fluid_times;       // wet: the time scales at the solid fraction below
   double fluid_solid_fraction = 0;   // wet: ν used for the drag time scale
   long sample_every = 0, servo_every = 0, total_steps = 0;
+  // strain.target_error: steps between the checks of the targets, whole servo intervals (whole
+  // samples at constant volume); 0 without targets.
+  long check_every = 0;
   long snapshot_every = 0;  // steps between particle snapshots (0: none; extraction/snapshots.hpp)
   // Immersed, constant pressure: the height moves during the first servo_move_every steps of
   // each servo interval and is held for the rest, where the servo measures σ_yy (a viscous

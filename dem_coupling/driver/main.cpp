@@ -28,6 +28,13 @@
 //    σ_yy over the held part only: in a viscous suspension σ_yy responds at once to the dilation
 //    rate (lubrication and drag resist it), so a stress measured while the box moves is biased
 //    by -η_n ε̇ and the loop locks into a period-2 cycle (docs/dem_fluid.md, servo).
+// 5. with gf_check_every in the deck (strain.target_error), every gf_check_every steps rank 0
+//    evaluates the steady window and its errors on the series so far (stopping_rule.hpp, the
+//    kind's own functions), broadcasts the decision, and the shear stops once the targets are
+//    met; else it runs to gf_total_steps (strain.max). The shear is then run in segments of
+//    gf_check_every steps at constant volume (of gf_servo_every steps under the servo, as
+//    without targets), so a stopped run is step for step the start of a fixed run of its length
+//    under the servo.
 // Exit codes: 0 ok, 1 LIGGGHTS error (LIGGGHTS exits itself), 2 bad arguments/deck,
 // 3 numerical failure (NaN/Inf or negative T in a sample).
 #include <mpi.h>
@@ -46,11 +53,13 @@
 #include <vector>
 
 #include "dem_coupling/deck/driver_parameters.hpp"
-#include "dem_coupling/extraction/snapshots.hpp"
 #include "dem_coupling/driver/contact_probe.hpp"
 #include "dem_coupling/driver/prepare_stage.hpp"
+#include "dem_coupling/driver/series_output.hpp"
+#include "dem_coupling/driver/stopping_rule.hpp"
 #include "dem_coupling/extraction/normal_stress_servo.hpp"
 #include "dem_coupling/extraction/shear_sample.hpp"
+#include "dem_coupling/extraction/snapshots.hpp"
 #include "dem_coupling/fix_styles.hpp"
 #include "dem_coupling/fixes/fix_fluid_le.hpp"
 #include "dem_coupling/liggghts_access.hpp"
@@ -66,7 +75,11 @@
 
 namespace {
 
+using granflow::dem::FluidStress;
 using granflow::dem::ShearSample;
+using granflow::dem::write_profile_row;
+using granflow::dem::write_series_header;
+using granflow::dem::write_series_row;
 using Clock = std::chrono::steady_clock;
 
 struct Options {
@@ -134,13 +147,6 @@ double stress_average_entry(void* handle, int k) {
   return v;
 }
 
-// Immersed runs (deck defines gf_viscosity and fix gf_fluid, docs/dem_fluid.md): the shear
-// stress split into contact, lubrication, drag and kinetic parts, appended to each series row.
-struct FluidStress {
-  double contact = 0, lubrication = 0, drag = 0, kinetic = 0, lubricated_pairs = 0;
-  double pressure = 0;  // hydrodynamic part of tr(P)/3: lubrication (normal + tangential) + drag
-};
-
 // Entry `offset` (0-based, dem::fluid_le_vector; f_gf_fluid[offset + 1] in a deck) of the fix's
 // global vector; collective (the fix reduces its sums over ranks), so every rank calls it. The
 // value is malloc'ed by library.cpp.
@@ -171,49 +177,6 @@ FluidStress fluid_stress(void* handle, const ShearSample& s, int rank) {
                    fluid_entry(handle, v::drag + k, rank)) /
                   3.0;
   return f;
-}
-
-void write_series_header(std::FILE* f, bool wet) {
-  std::fprintf(f,
-               "step\ttime\tstrain\tlx\tly\tlz\txy\tvolume\t"
-               "Pvir_xx\tPvir_yy\tPvir_zz\tPvir_xy\tPvir_xz\tPvir_yz\t"
-               "Pkin_xx\tPkin_yy\tPkin_zz\tPkin_xy\tPkin_xz\tPkin_yz\t"
-               "P_xx\tP_yy\tP_zz\tP_xy\tP_xz\tP_yz\t"
-               "sigma_yy\ttau\tp\tmu\tT\tphi\te\tI\tZ\td_mean\t"
-               "momentum_x\tmomentum_y\tmomentum_z\tparticles\tprofile_deviation\toverlap\t"
-               "Z_nr\tnonrattler_fraction\tfabric_xy\tanisotropy");
-  if (wet) std::fprintf(f, "\ttau_contact\ttau_lub\ttau_drag\ttau_kin\tlubricated_pairs\tp_fluid");
-  std::fputc('\n', f);
-}
-
-void write_series_row(std::FILE* f, const ShearSample& s, double overlap,
-                      const granflow::dem::NetworkState& network, const FluidStress* fluid) {
-  std::fprintf(f, "%ld\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g", s.step, s.time, s.strain,
-               s.box.lx, s.box.ly, s.box.lz, s.box.xy, s.box.volume());
-  for (double v : s.virial_stress) std::fprintf(f, "\t%.10g", v);
-  for (double v : s.kinetic_stress) std::fprintf(f, "\t%.10g", v);
-  for (double v : s.stress) std::fprintf(f, "\t%.10g", v);
-  std::fprintf(f, "\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g",
-               s.normal_stress, s.shear_stress, s.pressure, s.friction, s.temperature,
-               s.solid_fraction, s.void_ratio, s.inertial_number, s.coordination, s.mean_diameter);
-  std::fprintf(f, "\t%.17g\t%.17g\t%.17g\t%.0f\t%.10g\t%.10g", s.peculiar_momentum[0],
-               s.peculiar_momentum[1], s.peculiar_momentum[2], s.particles, s.profile_deviation,
-               overlap);
-  std::fprintf(f, "\t%.10g\t%.10g\t%.10g\t%.10g", network.coordination_nonrattler,
-               network.nonrattler_fraction, network.fabric[3], network.anisotropy);
-  if (fluid)
-    std::fprintf(f, "\t%.17g\t%.17g\t%.17g\t%.17g\t%.0f\t%.17g", fluid->contact,
-                 fluid->lubrication, fluid->drag, fluid->kinetic, fluid->lubricated_pairs,
-                 fluid->pressure);
-  std::fputc('\n', f);
-  std::fflush(f);
-}
-
-void write_profile_row(std::FILE* f, const ShearSample& s) {
-  std::fprintf(f, "%ld\t%.10g", s.step, s.strain);
-  for (double v : s.profile_velocity) std::fprintf(f, "\t%.10g", v);
-  std::fputc('\n', f);
-  std::fflush(f);
 }
 
 // SplitMix64 (Steele, Lea & Flood 2014): a well-mixed 64-bit hash, so that the fluctuation of an
@@ -404,6 +367,23 @@ int main(int argc, char** argv) {
     usage_error(rank,
                 "deck: gf_servo_move_every must be 0 or a multiple of gf_sample_every below "
                 "gf_servo_every");
+  // Optional (strain.target_error): the targets, the check interval and (d γ̇)² of the frozen
+  // check (deck/driver_parameters.hpp); checks end on segment ends.
+  std::optional<granflow::dem::StoppingRule> rule;
+  long check_every = 0;
+  if (void* p = lammps_extract_variable(handle, const_cast<char*>("gf_check_every"), nullptr)) {
+    check_every = std::lround(*static_cast<double*>(p));
+    std::free(p);
+    granflow::dem::ErrorTargets targets;
+    for (std::size_t k = 0; k < targets.error.size(); ++k)
+      targets.error[k] = deck_variable(
+          handle, ("gf_target_" + std::string(granflow::dem::target_observables[k])).c_str(), rank);
+    rule.emplace(targets, deck_variable(handle, "gf_temperature_scale", rank));
+    if (check_every < 1 || check_every % (servo ? servo_every : sample_every))
+      usage_error(rank,
+                  "deck: gf_check_every must be a multiple of gf_servo_every (servo) or of "
+                  "gf_sample_every");
+  }
   if (lmp->force->pair == nullptr) usage_error(rank, "deck defines no pair style");
   // Dry decks define `fix gf_stress all ave/time 1 n n c_gf_virial[1..6]` (n = gf_sample_every):
   // the contact virial averaged over every step of the interval that ends at each sample, read
@@ -435,7 +415,7 @@ int main(int argc, char** argv) {
   granflow::dem::SampleSums local(bins), global(bins);
   const double dt = lmp->update->dt;
   const long shear_begin = lmp->update->ntimestep;
-  const long segment_steps = servo ? servo_every : total_steps;
+  const long segment_steps = servo ? servo_every : rule ? check_every : total_steps;
   double liggghts_seconds = 0.0, harness_seconds = 0.0, liggghts_cpu_seconds = 0.0;
   long samples = 0;
   double segment_normal_stress = 0.0;
@@ -443,7 +423,8 @@ int main(int argc, char** argv) {
   char command[512];
 
   bool height_commanded = false;  // fix gf_shear moves the height (from the last servo update)
-  for (long done = 0; done < total_steps;) {
+  long done = 0;                  // shear steps run
+  while (done < total_steps) {
     const long segment_begin = shear_begin + done;
     const long segment_end = segment_begin + std::min(segment_steps, total_steps - done);
     // Move-then-hold: [segment_begin, move_end) with the height moving, the rest held.
@@ -516,6 +497,7 @@ int main(int argc, char** argv) {
         if (rank == 0) {
           write_series_row(series, s, overlap, network, wet ? &fluid : nullptr);
           write_profile_row(profile, s);
+          if (rule) rule->add(s);
         }
         ++samples;
         if (measured) {
@@ -526,6 +508,19 @@ int main(int argc, char** argv) {
       }
     }
     done = segment_end - shear_begin;
+    if (rule && done % check_every == 0 && done < total_steps) {
+      int stop = 0;  // rank 0 decides on the series it wrote
+      if (rank == 0) {
+        const granflow::dem::TargetStatus status = rule->check();
+        stop = status.all_met ? 1 : 0;
+        std::printf("granflow-dem: strain.target_error check at %s%s\n",
+                    rule->describe(status, shear_rate * double(done) * dt).c_str(),
+                    stop ? ": targets met, stopping" : "");
+        std::fflush(stdout);
+      }
+      MPI_Bcast(&stop, 1, MPI_INT, 0, MPI_COMM_WORLD);
+      if (stop) break;
+    }
     if (servo && done < total_steps) {
       const auto t0 = Clock::now();
       const double height =
@@ -545,6 +540,9 @@ int main(int argc, char** argv) {
     segment_samples = 0;
   }
 
+  if (rule && done == total_steps && rank == 0)  // strain.max: which targets were missed
+    std::printf("granflow-dem: strain.target_error: strain.max reached at %s\n",
+                rule->describe(rule->check(), shear_rate * double(done) * dt).c_str());
   const double natoms = double(lammps_get_natoms(handle));
   double cpu_all_ranks = liggghts_cpu_seconds;  // summed over ranks (MPI waits included)
   MPI_Reduce(&liggghts_cpu_seconds, &cpu_all_ranks, 1, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
@@ -559,22 +557,29 @@ int main(int argc, char** argv) {
     }
     int ranks = 1;
     MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-    const double particle_steps_per_s = natoms * double(total_steps) / liggghts_seconds;
+    const double particle_steps_per_s = natoms * double(done) / liggghts_seconds;
+    // steps: the shear steps run (fewer than gf_total_steps when strain.target_error stopped the
+    // run); checks, check_s: the stopping rule's checks and their wall time on rank 0.
+    const long checks = rule ? rule->checks() : 0;
+    const double check_seconds = rule ? rule->seconds() : 0.0;
     if (std::FILE* f = std::fopen(opt.stats.c_str(), "w")) {
       std::fprintf(
           f,
           "ranks\tparticles\tsteps\tsamples\tdt\tliggghts_s\tharness_s\t"
-          "particle_steps_per_s\tharness_fraction\tliggghts_cpu_s\n%d\t%.0f\t%ld\t%ld\t%.10g\t"
-          "%.6g\t%.6g\t%.6g\t%.6g\t%.6g\n",
-          ranks, natoms, total_steps, samples, dt, liggghts_seconds, harness_seconds,
-          particle_steps_per_s, harness_seconds / liggghts_seconds, cpu_all_ranks);
+          "particle_steps_per_s\tharness_fraction\tliggghts_cpu_s\tchecks\tcheck_s\n%d\t%.0f\t%ld\t"
+          "%ld\t%.10g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%ld\t%.6g\n",
+          ranks, natoms, done, samples, dt, liggghts_seconds, harness_seconds, particle_steps_per_s,
+          harness_seconds / liggghts_seconds, cpu_all_ranks, checks, check_seconds);
       std::fclose(f);
     }
     std::printf(
         "granflow-dem: %d ranks, %.0f particles, %ld shear steps, %ld samples, "
         "LIGGGHTS %.3f s, harness %.4f s (%.2f %%), %.4g particle-steps/s\n",
-        ranks, natoms, total_steps, samples, liggghts_seconds, harness_seconds,
+        ranks, natoms, done, samples, liggghts_seconds, harness_seconds,
         100.0 * harness_seconds / liggghts_seconds, particle_steps_per_s);
+    if (rule)
+      std::printf("granflow-dem: strain.target_error: %ld checks, %.4f s (%.2f %% of LIGGGHTS)\n",
+                  checks, check_seconds, 100.0 * check_seconds / liggghts_seconds);
   }
   lammps_close(handle);
   MPI_Finalize();

@@ -28,6 +28,48 @@ Steady steady_of(const std::vector<double>& series, std::size_t start) {
   return {e.mean, e.standard_error};
 }
 
+// strain.target_error: the strain the point used and its errors against the targets, as
+// PointResult::run_length, /conditions/N attributes (strain_used, strain_max, target_met,
+// target_error_NAME, achieved_error_NAME, target_met_NAME) and a log line.
+void report_targets(const SteadyWindow& window, const ShearDeckParams& p, PointResult& r,
+                    const std::string& group, core::ResultFile& out) {
+  const TargetStatus status = target_status(window, p.targets);
+  const double used = r.values["end_strain"];
+  r.run_length["used"] = used;
+  r.run_length["max"] = p.total_strain;
+  r.run_length["target_met"] = status.all_met ? 1.0 : 0.0;
+  out.attribute(group, "strain_used", used);
+  out.attribute(group, "strain_max", p.total_strain);
+  out.attribute(group, "target_met", status.all_met ? 1L : 0L);
+  std::string met, missed;
+  for (std::size_t k = 0; k < target_observables.size(); ++k) {
+    const double target = p.targets.error[k];
+    if (!(target > 0.0)) continue;
+    const std::string name = target_observables[k];
+    const double achieved = status.achieved[k];
+    r.run_length["target_error." + name] = target;
+    if (std::isfinite(achieved)) r.run_length["achieved_error." + name] = achieved;
+    r.run_length["target_met." + name] = status.met[k] ? 1.0 : 0.0;
+    out.attribute(group, "target_error_" + name, target);
+    out.attribute(group, "achieved_error_" + name, achieved);
+    out.attribute(group, "target_met_" + name, status.met[k] ? 1L : 0L);
+    std::string& list = status.met[k] ? met : missed;
+    list +=
+        fmt::format("{}{} {:.3g} (target {:g})", list.empty() ? "" : ", ", name, achieved, target);
+  }
+  if (status.all_met) {
+    r.notes.push_back(
+        fmt::format("strain.target_error met at strain {:.4g} (strain.max {:g}): steady, errors {}",
+                    used, p.total_strain, met));
+    return;
+  }
+  r.warnings.push_back(
+      fmt::format("strain.target_error NOT met: stopped at strain.max = {:g} (strain {:.4g}){}{}{}",
+                  p.total_strain, used, missed.empty() ? "" : "; missed: " + missed,
+                  met.empty() ? "" : "; met: " + met,
+                  window.reached ? "" : "; the window is not steady (see the drift warnings)"));
+}
+
 }  // namespace
 
 PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& dir,
@@ -85,26 +127,22 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
   r.particles = double(p.particles);
   if (t.rows() < 8) return r;
 
-  // Steady start: the latest MSER-5 truncation among the main observables.
-  std::size_t start = 0;
-  for (const char* name : {"sigma_yy", "tau", "phi", "T"})
-    start = std::max(start, statistics::mser_truncation(t.at(name), 5));
+  // The steady window, μ and the main errors (kind/steady_checks.hpp: the one definition that
+  // granflow-dem's stopping rule for strain.target_error also uses).
+  const double d = deck.mean_diameter;
+  const SteadyWindow window = steady_window(t.columns, d * p.shear_rate * d * p.shear_rate);
+  const std::size_t start = window.start;
   const auto& sigma = t.at("sigma_yy");
-  const auto& tau = t.at("tau");
-  const Steady s_sigma = steady_of(sigma, start);
-  const Steady s_tau = steady_of(tau, start);
-  // mu = <tau>/<sigma_yy> (ratio of means); its error from the batch means of the linearised
-  // residual tau - mu sigma_yy (delta method): se(mu) = se(<tau - mu sigma>) / <sigma>.
-  const double mu = s_tau.mean / s_sigma.mean;
-  std::vector<double> residual(sigma.size());
-  for (std::size_t i = 0; i < sigma.size(); ++i) residual[i] = tau[i] - mu * sigma[i];
-  const double mu_err = steady_of(residual, start).error / s_sigma.mean;
-  const Steady s_phi = steady_of(t.at("phi"), start);
-  const Steady s_T = steady_of(t.at("T"), start);
+  const Steady s_sigma{window.sigma.mean, window.sigma.standard_error};
+  const Steady s_tau{window.tau.mean, window.tau.standard_error};
+  const double mu = window.mu;
+  const std::vector<double>& residual = window.mu_residual;
+  const double mu_err = window.mu_err;
+  const Steady s_phi{window.phi.mean, window.phi.standard_error};
+  const Steady s_T{window.temperature.mean, window.temperature.standard_error};
   const Steady s_p = steady_of(t.at("p"), start);
   const Steady s_Z = steady_of(t.at("Z"), start);
   const Steady s_dev = steady_of(t.at("profile_deviation"), start);
-  const double d = deck.mean_diameter;
   const double inertial = p.shear_rate * d / std::sqrt(s_sigma.mean / p.material.particle_density);
   auto& v = r.values;
   v["mu"] = mu;
@@ -115,7 +153,7 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
   v["e_err"] = s_phi.error / (s_phi.mean * s_phi.mean);
   v["T"] = s_T.mean;
   v["T_err"] = s_T.error;
-  v["T_scaled"] = s_T.mean / (d * p.shear_rate * d * p.shear_rate);
+  v["T_scaled"] = window.scaled_temperature;
   v["p"] = s_sigma.mean;
   v["p_err"] = s_sigma.error;
   v["p_mean"] = s_p.mean;
@@ -152,17 +190,17 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
           s_sigma.mean, s_sigma.error, p.normal_stress, miss, 100.0 * v["p_rel_dev"]));
   }
   // Steady means steady: no observable may drift over the window (kind/steady_checks.hpp).
-  const SteadyCheck check = check_steady(t, start, residual);
+  const SteadyCheck& check = window.check;
   // A sample whose T never leaves ~0 (spheres on streamlines, no collisions) has steady-looking
   // series of nothing: flagged frozen and not steady (steady_checks.hpp, frozen_temperature).
-  const bool frozen = !(v["T_scaled"] >= frozen_temperature);
+  const bool frozen = window.frozen;
   v["frozen"] = frozen ? 1.0 : 0.0;
   if (frozen)
     r.warnings.push_back(fmt::format(
         "NOT steady: frozen, T/(d γ̇)² = {:.3g} < {:g}: the spheres move on the streamlines "
         "without colliding (start it with velocity fluctuations, control.initial_temperature)",
         v["T_scaled"], frozen_temperature));
-  v["reached"] = check.reached && !frozen ? 1.0 : 0.0;
+  v["reached"] = window.reached ? 1.0 : 0.0;
   v["drift_max"] = check.worst;
   for (const auto& [key, z] : check.drift) {
     if (std::isfinite(z)) v["drift." + key] = z;
@@ -178,6 +216,7 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
           "a transient",
           name, v["start_strain"], v["end_strain"], z, max_drift));
   }
+  if (p.targets.any()) report_targets(window, p, r, group, out);
   if (p.wet.enabled) {
     // Viscous number J = η0 γ̇ / σ_yy (Boyer et al. 2011), Stokes number St = ρ_p d² γ̇ / η0 = I²/J,
     // K = J + α I² (Trulsson et al. 2012). Errors from that of σ_yy (J ∝ 1/σ, I² ∝ 1/σ).

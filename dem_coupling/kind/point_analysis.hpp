@@ -5,7 +5,9 @@
 //   start: the latest MSER-5 truncation of σ_yy, τ, φ, T (statistics/steady_state.hpp);
 //   means and standard errors: statistics::correlated_mean of series[start:];
 //   μ = <τ>/<σ_yy>, its error that of the linearised residual τ − μ σ_yy over <σ_yy> (delta
-//   method); I from <σ_yy>, e from <φ>.
+//   method); I from <σ_yy>, e from <φ> (kind/steady_checks.hpp, steady_window);
+//   strain.target_error: the achieved errors against the targets (steady_checks.hpp,
+//   target_status) on the whole series, i.e. the values granflow-dem stopped on.
 #pragma once
 
 #include <filesystem>
@@ -21,7 +23,12 @@ namespace granflow::dem {
 
 struct PointResult {
   std::map<std::string, double> values;  // summary names without "steady." prefix
-  std::vector<std::string> warnings;     // for the log (not steady, off the target)
+  // strain.target_error only: the run length and the errors against the targets, summary names
+  // without the "strain." prefix: used, max, target_met, and per observable with a target
+  // target_error.NAME, achieved_error.NAME, target_met.NAME (NAME of target_observables).
+  std::map<std::string, double> run_length;
+  std::vector<std::string> notes;     // for the log (targets met)
+  std::vector<std::string> warnings;  // for the log (not steady, off the target, target missed)
   double steps = 0, dt = 0, particles = 0, wall = 0, particle_steps_per_s = 0;
 };
 

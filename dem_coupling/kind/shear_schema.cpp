@@ -152,6 +152,33 @@ core::Schema shear_schema() {
   auto& strain = s.section("strain", "shear strain to run and sample");
   strain.number("total", "", "shear strain of the run").default_value("20").greater_than(0);
   strain.number("sample", "", "shear strain between samples").default_value("0.01").greater_than(0);
+  auto& targets = strain.section(
+      "target_error",
+      "error-targeted run length (docs/dem_dataset.md): the run goes on until the steady "
+      "window is steady and the standard error of each observable listed here is at most its "
+      "target (checked every strain.check), or until strain.max; strain.total is then unused. "
+      "summary.json: strain.used, strain.target_met, strain.achieved_error.NAME, "
+      "strain.target_met.NAME");
+  targets.number("friction", "", "largest relative standard error se(μ)/μ of the friction")
+      .greater_than(0);
+  targets
+      .number("solid_fraction", "", "largest absolute standard error se(φ) of the solid fraction")
+      .greater_than(0);
+  targets
+      .number("temperature", "",
+              "largest relative standard error se(T)/T of the granular temperature")
+      .greater_than(0);
+  strain
+      .number("max", "",
+              "largest shear strain of a run with strain.target_error (required with it, unused "
+              "without)")
+      .greater_than(0);
+  strain
+      .number("check", "",
+              "shear strain between the checks of strain.target_error (rounded to whole servo "
+              "intervals; the run stops at most this much after the targets are met)")
+      .default_value("0.5")
+      .greater_than(0);
   auto& statistics = s.section("statistics", "error bars that include the sample variability");
   statistics
       .integer("seeds",
@@ -242,6 +269,14 @@ ShearDeckParams read_shear_params(const core::Case& c) {
                                                         : 0.1;
   p.total_strain = c.number("strain.total");
   p.sample_strain = c.number("strain.sample");
+  // strain.target_error: the observables of target_observables (deck/driver_parameters.hpp);
+  // the run is then at most strain.max long (dem_kind.cpp checks that it is given).
+  for (std::size_t k = 0; k < target_observables.size(); ++k)
+    if (const std::string key = std::string("strain.target_error.") + target_observables[k];
+        c.has(key))
+      p.targets.error[k] = c.number(key);
+  p.check_strain = c.number("strain.check");
+  if (p.targets.any() && c.has("strain.max")) p.total_strain = c.number("strain.max");
   p.profile_bins = static_cast<int>(c.integer("output.profile_bins"));
   p.snapshot_strain = c.number("output.snapshot_strain");
   WetShear& w = p.wet;

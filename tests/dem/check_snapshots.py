@@ -1,22 +1,81 @@
 #!/usr/bin/env python3
-"""Opens the DEM particle snapshots of a run directory as a reader would (meshio, Debian
-python3-meshio: the VTK XML files ParaView and OVITO open) through their index snapshots.pvd and
-checks what a user needs: one vertex cell per sphere, the arrays of the docs, times at the
-requested strain interval, and the velocity about the streaming profile.
+"""Opens the DEM particle snapshots of a run directory as a reader would, through their index
+snapshots.pvd, with two readers: VTK's own vtkXMLUnstructuredGridReader (Debian python3-vtk9, the
+reader ParaView uses) and meshio (python3-meshio, an independent parser). Checks what a user
+needs: the index lists every snapshot_<step>.vtu of the directory with increasing times at
+the requested strain interval; each file has one point per sphere, one vertex cell per point, the
+arrays of the docs (radius, velocity about the streaming profile, ω, force), the same values in
+both readers; and the velocity about the streaming profile has zero mean and a thermal scatter.
 
 usage: check_snapshots.py RUN_DIR PARTICLES SNAPSHOT_STRAIN COUNT SHEAR_RATE
 Exit 0 when everything holds, 1 with the first failure on stderr."""
 import os
+import re
 import sys
 import xml.etree.ElementTree as ET
 
 import meshio
 import numpy as np
 
+# The arrays of docs/results.md ("ParaView / OVITO") and their components per sphere.
+ARRAYS = {"id": 1, "type": 1, "radius": 1, "vx_fluctuation": 1, "vy": 1, "vz": 1, "omega": 3,
+          "f": 3}
+VTK_VERTEX = 1  # vtkCellType.h
+
 
 def fail(message):
     print(f"check_snapshots: {message}", file=sys.stderr)
     sys.exit(1)
+
+
+def read_with_vtk(path, particles):
+    """The file through vtkXMLUnstructuredGridReader: points and arrays as numpy, after checking
+    one point per sphere and one vertex cell per point."""
+    try:
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+        from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+    except ImportError as e:
+        fail(f"VTK's Python modules are missing ({e}); scripts/install-deps installs python3-vtk9")
+    errors = []
+    reader = vtkXMLUnstructuredGridReader()
+    reader.AddObserver("ErrorEvent", lambda obj, event: errors.append(event))
+    reader.SetFileName(path)
+    reader.Update()
+    grid = reader.GetOutput()
+    name = os.path.basename(path)
+    if errors or grid is None:
+        fail(f"{name}: vtkXMLUnstructuredGridReader reported an error")
+    if grid.GetNumberOfPoints() != particles:
+        fail(f"{name}: VTK reads {grid.GetNumberOfPoints()} points, expected {particles} spheres")
+    if grid.GetNumberOfCells() != particles:
+        fail(f"{name}: VTK reads {grid.GetNumberOfCells()} cells, expected one per sphere")
+    owner = np.zeros(particles, dtype=int)
+    for i in range(grid.GetNumberOfCells()):
+        cell = grid.GetCell(i)
+        if grid.GetCellType(i) != VTK_VERTEX or cell.GetNumberOfPoints() != 1:
+            fail(f"{name}: cell {i} of VTK type {grid.GetCellType(i)} with "
+                 f"{cell.GetNumberOfPoints()} points, expected a vertex (type 1) of one point")
+        owner[cell.GetPointId(0)] += 1
+    if not np.all(owner == 1):
+        fail(f"{name}: {np.sum(owner != 1)} points not in exactly one vertex cell")
+    data = grid.GetPointData()
+    arrays = {}
+    for array, components in ARRAYS.items():
+        a = data.GetArray(array)
+        if a is None or a.GetNumberOfComponents() != components or \
+                a.GetNumberOfTuples() != particles:
+            present = [data.GetArrayName(i) for i in range(data.GetNumberOfArrays())]
+            fail(f"{name}: VTK array {array} missing or not {particles} x {components} "
+                 f"(arrays: {present})")
+        arrays[array] = vtk_to_numpy(a)
+    points = vtk_to_numpy(grid.GetPoints().GetData())
+    if not (np.all(np.isfinite(points)) and all(np.all(np.isfinite(v)) for v in arrays.values())):
+        fail(f"{name}: non-finite positions or arrays")
+    if not np.all(arrays["radius"] > 0):
+        fail(f"{name}: a radius <= 0")
+    if sorted(arrays["id"]) != list(range(1, particles + 1)):
+        fail(f"{name}: the ids are not the spheres 1 ... {particles} once each")
+    return points, arrays
 
 
 def main():
@@ -27,11 +86,27 @@ def main():
     frames = [(float(d.get("timestep")), d.get("file")) for d in sets]
     if len(frames) != count:
         fail(f"{len(frames)} snapshots indexed, expected {count}")
+    # Every snapshot_<step>.vtu of the directory indexed, in step order, at increasing times
+    # (LIGGGHTS writes snapshot_boundingBox_<step>.vtu beside them: not particle files).
+    files = sorted((f for f in os.listdir(run) if re.fullmatch(r"snapshot_\d+\.vtu", f)),
+                   key=lambda f: int(re.findall(r"\d+", f)[0]))
+    if [name for _, name in frames] != files:
+        fail(f"snapshots.pvd lists {[name for _, name in frames]}, the directory holds {files}")
+    times = [t for t, _ in frames]
+    if not all(b > a for a, b in zip(times, times[1:])):
+        fail(f"snapshots.pvd times {times} do not increase")
     for k, (strain, name) in enumerate(frames):
         # The k-th snapshot at strain k × interval, to one time step (γ̇ dt ≈ 8e-5 here).
         if abs(strain - k * interval) > 1e-3:
             fail(f"{name}: strain {strain}, expected {k * interval}")
+        points, arrays = read_with_vtk(os.path.join(run, name), particles)
         m = meshio.read(os.path.join(run, name))
+        # Two readers, one file: the same positions and values (both parse the same text).
+        if not np.array_equal(points, m.points):
+            fail(f"{name}: VTK and meshio read different positions")
+        for array in ARRAYS:
+            if not np.array_equal(arrays[array], m.point_data[array]):
+                fail(f"{name}: VTK and meshio read different {array}")
         if m.points.shape != (particles, 3):
             fail(f"{name}: points {m.points.shape}, expected ({particles}, 3)")
         cells = [(b.type, len(b.data)) for b in m.cells]
@@ -58,7 +133,8 @@ def main():
         if not fluct.std() < 0.5 * shear_rate * box / np.sqrt(12):
             fail(f"{name}: rms vx_fluctuation {fluct.std()} not below half the profile's "
                  f"{shear_rate * box / np.sqrt(12)}")
-    print(f"check_snapshots: {len(frames)} snapshots of {particles} spheres")
+    print(f"check_snapshots: {len(frames)} snapshots of {particles} spheres "
+          "(vtkXMLUnstructuredGridReader and meshio)")
 
 
 if __name__ == "__main__":

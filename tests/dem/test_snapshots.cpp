@@ -1,6 +1,7 @@
 // DEM particle snapshots (output.snapshot_strain): a 300-sphere dry shear over 1.2 strain on two
-// MPI ranks writes snapshot_<step>.vtu at strain 0, 0.4, 0.8 indexed in snapshots.pvd, which a
-// VTK reader (meshio) opens with one vertex per sphere and the documented arrays
+// MPI ranks writes snapshot_<step>.vtu at strain 0, 0.4, 0.8 indexed in snapshots.pvd, which
+// VTK's own vtkXMLUnstructuredGridReader (the reader ParaView uses, python3-vtk9) and meshio open
+// with one vertex per sphere, the documented arrays and the same values
 // (tests/dem/check_snapshots.py); the same run without snapshots gives the same series to the
 // last digit (a dump only reads the state). ~10 s.
 #include <gtest/gtest.h>
