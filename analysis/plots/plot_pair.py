@@ -19,6 +19,25 @@ import numpy as np  # noqa: E402
 REGIMES = {0: "quasi-static", 1: "dense inertial", 2: "collisional", 3: "viscous"}
 
 
+def spans_a_decade(*arrays):
+    """True when the positive finite values span at least a factor 10 (then a log axis reads
+    better than a linear one; over a narrower range its ticks are unreadable)."""
+    v = np.concatenate([np.ravel(np.asarray(a, dtype=float)) for a in arrays])
+    v = v[np.isfinite(v) & (v > 0)]
+    return v.size > 1 and v.max() >= 10 * v.min()
+
+
+def scale_axes(ax):
+    """Log x and y axes where the drawn data span a decade, linear otherwise."""
+    xs = [line.get_xdata() for line in ax.get_lines()]
+    ys = [line.get_ydata() for line in ax.get_lines()]
+    if xs and spans_a_decade(*xs):
+        ax.set_xscale("log")
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())  # narrow ranges
+    if ys and spans_a_decade(*ys):
+        ax.set_yscale("log")
+
+
 def main(run):
     with h5py.File(os.path.join(run, "result.h5"), "r") as h5:
         g = h5["pair"]
@@ -26,9 +45,9 @@ def main(run):
         gd = g["shear_rate"][:]
         order = np.argsort(I)
         fig, axes = plt.subplots(1, 3, figsize=(14, 4))
-        panels = [("friction", "μ = τ/σ_yy", False), ("solid_fraction", "φ", False),
-                  ("granular_temperature", "T [m²/s²]", True)]
-        for ax, (name, label, log) in zip(axes, panels):
+        panels = [("friction", "μ = τ/σ_yy"), ("solid_fraction", "φ"),
+                  ("granular_temperature", "T [m²/s²]")]
+        for ax, (name, label) in zip(axes, panels):
             y = g[name + "_dem"][:]
             err = g[name + "_dem_err"][:]
             ax.errorbar(I, y, yerr=err, fmt="ko", capsize=2, label="DEM (LIGGGHTS)", zorder=3)
@@ -44,10 +63,7 @@ def main(run):
             else:
                 ax.plot(I[order], g[name + "_cont"][:][order], "r-", marker="s", ms=4,
                         label="continuum (steady REV)")
-            ax.set_xscale("log")
-            ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())  # narrow ranges
-            if log:
-                ax.set_yscale("log")
+            scale_axes(ax)
             ax.set(xlabel="inertial number I", ylabel=label)
         axes[0].legend(fontsize=8)
         for i in range(len(I)):
@@ -61,7 +77,7 @@ def main(run):
         if "curve_J" in g:  # immersed pair over η0: μ, φ, T against J, one curve per σ_yy level
             J = g["viscous_number_dem"][:]
             fig, axes = plt.subplots(1, 3, figsize=(14, 4))
-            for ax, (name, label, log) in zip(axes, panels):
+            for ax, (name, label) in zip(axes, panels):
                 ax.errorbar(J, g[name + "_dem"][:], yerr=g[name + "_dem_err"][:], fmt="ko",
                             capsize=2, label="DEM (LIGGGHTS)", zorder=3)
                 for level in sorted(g["curve_J"].keys(), key=int):
@@ -73,10 +89,7 @@ def main(run):
                         if name + "_" + tag in c:
                             ax.plot(c["viscous_number"][:], c[name + "_" + tag][:], style, lw=1.2,
                                     label=f"{text}, σ_yy = {sigma:.3g} Pa")
-                ax.set_xscale("log")
-                finite = [v for line in ax.get_lines() for v in line.get_ydata() if np.isfinite(v) and v > 0]
-                if log or (finite and max(finite) > 20 * min(finite)):
-                    ax.set_yscale("log")
+                scale_axes(ax)
                 ax.set(xlabel="viscous number J = η0 γ̇ / σ_yy", ylabel=label)
             axes[0].legend(fontsize=6)
             fig.suptitle("immersed: DEM vs continuum over the viscous number")
@@ -92,7 +105,8 @@ def main(run):
                     label="collisions + liquid (τ_COL + τ_L)/τ")
             if "share_tau_fc_cal" in c:
                 ax.plot(c["inertial_number"][:], c["share_tau_fc_cal"][:], "g--", label="force chains, calibrated")
-            ax.set_xscale("log")
+            if spans_a_decade(c["inertial_number"][:]):
+                ax.set_xscale("log")
             ax.set(xlabel="inertial number I", ylabel="share of τ", ylim=(-0.02, 1.02),
                    title="who carries the shear stress (continuum)")
             ax.legend(fontsize=8)
@@ -105,7 +119,8 @@ def main(run):
                                    ("granular_temperature", "^-", "T")):
             ax.plot(I[order], 100 * g[name + "_rel_err"][:][order], style, label=label)
         ax.axhline(0, color="k", lw=0.8)
-        ax.set_xscale("log")
+        if spans_a_decade(I):
+            ax.set_xscale("log")
         ax.set(xlabel="inertial number I", ylabel="continuum / DEM − 1 [%]",
                title="relative difference, point by point")
         ax.legend(fontsize=8)
