@@ -21,6 +21,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from plot_axes import spans_a_decade  # noqa: E402
 
 LABELS = {
     "friction": "friction μ = τ/σ_yy [–]",
@@ -41,13 +42,6 @@ MODELS = (("uncalibrated", "b--", "continuum, starting parameters"),
 
 def text(value):
     return value.decode() if isinstance(value, bytes) else str(value)
-
-
-def spans_a_decade(arrays):
-    """Log axis: every finite value positive and the largest at least 10 × the smallest."""
-    v = np.concatenate([np.ravel(a) for a in arrays])
-    v = v[np.isfinite(v)]
-    return len(v) > 1 and v.min() > 0 and v.max() >= 10 * v.min()
 
 
 def point_axes(h5):

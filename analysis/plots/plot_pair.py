@@ -15,26 +15,19 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
+from plot_axes import spans_a_decade  # noqa: E402
 
 REGIMES = {0: "quasi-static", 1: "dense inertial", 2: "collisional", 3: "viscous"}
-
-
-def spans_a_decade(*arrays):
-    """True when the positive finite values span at least a factor 10 (then a log axis reads
-    better than a linear one; over a narrower range its ticks are unreadable)."""
-    v = np.concatenate([np.ravel(np.asarray(a, dtype=float)) for a in arrays])
-    v = v[np.isfinite(v) & (v > 0)]
-    return v.size > 1 and v.max() >= 10 * v.min()
 
 
 def scale_axes(ax):
     """Log x and y axes where the drawn data span a decade, linear otherwise."""
     xs = [line.get_xdata() for line in ax.get_lines()]
     ys = [line.get_ydata() for line in ax.get_lines()]
-    if xs and spans_a_decade(*xs):
+    if xs and spans_a_decade(xs):
         ax.set_xscale("log")
         ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())  # narrow ranges
-    if ys and spans_a_decade(*ys):
+    if ys and spans_a_decade(ys):
         ax.set_yscale("log")
 
 
@@ -105,7 +98,7 @@ def main(run):
                     label="collisions + liquid (τ_COL + τ_L)/τ")
             if "share_tau_fc_cal" in c:
                 ax.plot(c["inertial_number"][:], c["share_tau_fc_cal"][:], "g--", label="force chains, calibrated")
-            if spans_a_decade(c["inertial_number"][:]):
+            if spans_a_decade([c["inertial_number"][:]]):
                 ax.set_xscale("log")
             ax.set(xlabel="inertial number I", ylabel="share of τ", ylim=(-0.02, 1.02),
                    title="who carries the shear stress (continuum)")
@@ -119,7 +112,7 @@ def main(run):
                                    ("granular_temperature", "^-", "T")):
             ax.plot(I[order], 100 * g[name + "_rel_err"][:][order], style, label=label)
         ax.axhline(0, color="k", lw=0.8)
-        if spans_a_decade(I):
+        if spans_a_decade([I]):
             ax.set_xscale("log")
         ax.set(xlabel="inertial number I", ylabel="continuum / DEM − 1 [%]",
                title="relative difference, point by point")

@@ -13,6 +13,7 @@ import granflow_results as gr  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from plot_axes import spans_a_decade  # noqa: E402
 
 
 def series_plots(run, h5):
@@ -22,7 +23,7 @@ def series_plots(run, h5):
     T = g["granular_temperature"][:]
     axes[0].semilogx(strain, T)
     # log in T only where it spans a decade or more (else log ticks are unreadable)
-    if np.all(T > 0) and T.max() > 10 * T.min():
+    if spans_a_decade([T]):
         axes[0].set_yscale("log")
     axes[0].set(xlabel="shear strain γ", ylabel="T [m²/s²]", title="granular temperature")
     axes[1].semilogx(strain, g["friction"][:])
