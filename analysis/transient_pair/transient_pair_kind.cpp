@@ -312,6 +312,7 @@ int run_transient_pair_case(core::RunContext& ctx) {
   auto& log = *ctx.log;
   std::filesystem::path h5;
   if (c.has("dem_run")) {  // ---- DEM side: a finished run
+    if (!core::owns_outputs()) return core::exit_ok;  // mpirun: nothing to share, rank 0 fits
     h5 = dem_run_directory(c) / "result.h5";
     log.info("DEM part: the finished run {} (not run again)", h5.parent_path().string());
   } else {  // ---- DEM side: the dem kind's own run function in RUN_DIR/dem/
