@@ -78,7 +78,9 @@ inline SeedCombined combine_seeds(const std::vector<double>& values,
   for (double v : values)
     if (std::isfinite(v)) ss += (v - c.mean) * (v - c.mean);
   c.error = std::sqrt(ss / (n - 1.0)) / std::sqrt(n);
-  if (c.within > 0.0) c.scatter_ratio = c.error / c.within;
+  // A per-run error at round-off (below 1e-9 of the mean: an imposed quantity, e.g. φ at constant
+  // volume, whose series jitters in its last digits) has no ratio to speak of: NaN, not 1e12.
+  if (c.within > 1e-9 * std::abs(c.mean)) c.scatter_ratio = c.error / c.within;
   return c;
 }
 
