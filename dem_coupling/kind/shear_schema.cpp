@@ -221,8 +221,9 @@ core::Schema shear_schema() {
       .at_least(1);
   output
       .number("snapshot_strain", "",
-              "shear strain between particle snapshots (snapshot_<step>.vtu, indexed by strain "
-              "in snapshots.pvd: ParaView, OVITO); 0: none")
+              "shear strain between particle snapshots: snapshot_<step>.vtu for ParaView (indexed "
+              "by strain in snapshots.pvd) and snapshot_<step>.dump, a LAMMPS text dump of the "
+              "same spheres, for OVITO (File > Load File, snapshot_*.dump); 0: none")
       .default_value("0")
       .at_least(0);
   return s;
