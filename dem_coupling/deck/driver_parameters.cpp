@@ -40,8 +40,9 @@ std::string driver_parameter_lines(const DriverParameters& p) {
                            p.targets.error[k]);
     lines += fmt::format(
         "variable gf_check_every equal {}\n"
+        "variable gf_confirm_checks equal {}\n"
         "variable gf_temperature_scale equal {:.17g}\n",
-        p.check_every, p.temperature_scale);
+        p.check_every, p.targets.confirm_checks, p.temperature_scale);
   }
   return lines;
 }
@@ -74,6 +75,7 @@ DriverParameters driver_parameters_from_words(const std::vector<std::string>& wo
     else if (name == "profile_bins") p.profile_bins = int(integer);
     else if (name == "particle_density") p.particle_density = value;
     else if (name == "check_every") p.check_every = integer;
+    else if (name == "confirm_checks") p.targets.confirm_checks = int(integer);
     else if (name == "temperature_scale") p.temperature_scale = value;
     else if (const auto k = target_index(name); k < target_observables.size()) p.targets.error[k] = value;
     else throw std::invalid_argument("'" + word + "': unknown parameter '" + name + "'");

@@ -94,8 +94,9 @@ struct ShearDeckParams {
   double shear_rate = 20.0;         // 1/s
   double total_strain = 20.0;       // with targets: the largest run (strain.max)
   double sample_strain = 0.01;  // shear strain between samples
-  // strain.target_error: granflow-dem stops at the first check where the steady window is steady
-  // and its errors are within these (kind/steady_checks.hpp); none: it runs total_strain.
+  // strain.target_error: granflow-dem stops once the steady window has been steady with its
+  // errors within these at targets.confirm_checks consecutive checks (kind/steady_checks.hpp);
+  // none: it runs total_strain.
   ErrorTargets targets;
   double check_strain = 0.5;    // shear strain between those checks (strain.check)
   double dt_safety = 0.1;       // dt = dt_safety * min(t_Rayleigh, t_Hertz) (hooke: * t_c linear)

@@ -30,11 +30,11 @@
 //    by -η_n ε̇ and the loop locks into a period-2 cycle (docs/dem_fluid.md, servo).
 // 5. with gf_check_every in the deck (strain.target_error), every gf_check_every steps rank 0
 //    evaluates the steady window and its errors on the series so far (stopping_rule.hpp, the
-//    kind's own functions), broadcasts the decision, and the shear stops once the targets are
-//    met; else it runs to gf_total_steps (strain.max). The shear is then run in segments of
-//    gf_check_every steps at constant volume (of gf_servo_every steps under the servo, as
-//    without targets), so a stopped run is step for step the start of a fixed run of its length
-//    under the servo.
+//    kind's own functions), broadcasts the decision, and the shear stops once the targets have
+//    been met at gf_confirm_checks consecutive checks; else it runs to gf_total_steps
+//    (strain.max). The shear is then run in segments of gf_check_every steps at constant volume
+//    (of gf_servo_every steps under the servo, as without targets), so a stopped run is step for
+//    step the start of a fixed run of its length under the servo.
 // Exit codes: 0 ok, 1 LIGGGHTS error (LIGGGHTS exits itself), 2 bad arguments/deck,
 // 3 numerical failure (NaN/Inf or negative T in a sample).
 #include <mpi.h>
@@ -378,6 +378,8 @@ int main(int argc, char** argv) {
     for (std::size_t k = 0; k < targets.error.size(); ++k)
       targets.error[k] = deck_variable(
           handle, ("gf_target_" + std::string(granflow::dem::target_observables[k])).c_str(), rank);
+    targets.confirm_checks = int(std::lround(deck_variable(handle, "gf_confirm_checks", rank)));
+    if (targets.confirm_checks < 1) usage_error(rank, "deck: gf_confirm_checks must be >= 1");
     rule.emplace(targets, deck_variable(handle, "gf_temperature_scale", rank));
     if (check_every < 1 || check_every % (servo ? servo_every : sample_every))
       usage_error(rank,
@@ -512,7 +514,7 @@ int main(int argc, char** argv) {
       int stop = 0;  // rank 0 decides on the series it wrote
       if (rank == 0) {
         const granflow::dem::TargetStatus status = rule->check();
-        stop = status.all_met ? 1 : 0;
+        stop = rule->confirmed() ? 1 : 0;
         std::printf("granflow-dem: strain.target_error check at %s%s\n",
                     rule->describe(status, shear_rate * double(done) * dt).c_str(),
                     stop ? ": targets met, stopping" : "");

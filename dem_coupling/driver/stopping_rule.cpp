@@ -10,6 +10,7 @@ namespace granflow::dem {
 
 StoppingRule::StoppingRule(const ErrorTargets& targets, double temperature_scale)
     : targets_(targets), temperature_scale_(temperature_scale) {
+  confirmation_.needed = targets.confirm_checks;
   for (const char* name : {"sigma_yy", "tau", "p", "phi", "e", "T", "Z"}) columns_[name];
 }
 
@@ -34,6 +35,7 @@ TargetStatus StoppingRule::check() {
     status = target_status(window, targets_);
     reached_ = window.reached;
   }
+  confirmation_.update(status);
   ++checks_;
   seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return status;
@@ -47,7 +49,8 @@ std::string StoppingRule::describe(const TargetStatus& status, double strain) co
     if (targets_.error[k] > 0.0)
       line += fmt::format(", {} {:.4g} (target {:g}) {}", target_observables[k], status.achieved[k],
                           targets_.error[k], status.met[k] ? "met" : "missed");
-  return line;
+  return line + fmt::format("; met at {} of {} consecutive checks", confirmation_.held,
+                            confirmation_.needed);
 }
 
 }  // namespace granflow::dem

@@ -14,6 +14,7 @@ namespace granflow::dem {
 namespace {
 constexpr const char* prefix = "snapshot_";
 constexpr const char* suffix = ".vtu";
+constexpr const char* text_suffix = ".dump";  // the LAMMPS text dump of the same step
 }  // namespace
 
 std::string snapshot_commands(long every, long shear_start_step, double shear_rate) {
@@ -22,16 +23,21 @@ std::string snapshot_commands(long every, long shear_start_step, double shear_ra
   // LIGGGHTS 3.8.0 DumpCustomVTK) plus a bounding-box file of the same step. Its own steps are
   // multiples of N counted from timestep 0; `dump_modify every v_` with stride(start, stop, N)
   // counts them from the shear start instead (stride takes 32-bit steps: stop at 2e9), and
-  // `first yes` adds the shear start itself.
+  // `first yes` adds the shear start itself. The second dump writes the same columns at the same
+  // steps as LAMMPS text (dump custom: ITEM: TIMESTEP / NUMBER OF ATOMS / BOX BOUNDS xy xz yz /
+  // ATOMS, reals as %g), the format OVITO reads natively (it has no reader for .vtu grids).
   return fmt::format(
       "# particle snapshots every {0} steps from the shear start (output.snapshot_strain;\n"
-      "# indexed by strain in snapshots.pvd when granflow-dem ends)\n"
+      "# indexed by strain in snapshots.pvd and snapshots.csv when granflow-dem ends):\n"
+      "# {2}<step>{3} for ParaView, {2}<step>{5} (LAMMPS text dump) for OVITO\n"
       "variable        vx_fluctuation atom vx-{1:.17g}*(y-ylo)\n"
       "variable        gf_snapshot_next equal stride({4},2000000000,{0})\n"
-      "dump            gf_snapshots all custom/vtk {0} {2}*{3} id type radius x y z "
-      "v_vx_fluctuation vy vz omegax omegay omegaz fx fy fz\n"
-      "dump_modify     gf_snapshots every v_gf_snapshot_next first yes\n",
-      every, shear_rate, prefix, suffix, shear_start_step);
+      "dump            gf_snapshots all custom/vtk {0} {2}*{3} {6}\n"
+      "dump_modify     gf_snapshots every v_gf_snapshot_next first yes\n"
+      "dump            gf_snapshots_text all custom {0} {2}*{5} {6}\n"
+      "dump_modify     gf_snapshots_text every v_gf_snapshot_next first yes\n",
+      every, shear_rate, prefix, suffix, shear_start_step, text_suffix,
+      "id type radius x y z v_vx_fluctuation vy vz omegax omegay omegaz fx fy fz");
 }
 
 int index_snapshots(const std::filesystem::path& dir, long shear_start_step, double dt,
@@ -54,12 +60,15 @@ int index_snapshots(const std::filesystem::path& dir, long shear_start_step, dou
       "<?xml version=\"1.0\"?>\n"
       "<!-- granflow: DEM particle snapshots of the shear stage; timestep = shear strain -->\n"
       "<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
-  std::string csv = "step,time_s,strain,file\n";
+  std::string csv = "step,time_s,strain,file,dump_file\n";
   for (const auto& [step, name] : files) {
     const double time = double(step - shear_start_step) * dt;
     pvd += fmt::format("<DataSet timestep=\"{:.10g}\" group=\"\" part=\"0\" file=\"{}\"/>\n",
                        shear_rate * time, name);
-    csv += fmt::format("{},{:.10g},{:.10g},{}\n", step, time, shear_rate * time, name);
+    // The text dump of the same step (empty when the deck did not write one).
+    std::string text = fmt::format("{}{}{}", prefix, step, text_suffix);
+    if (!std::filesystem::is_regular_file(dir / text, ec)) text.clear();
+    csv += fmt::format("{},{:.10g},{:.10g},{},{}\n", step, time, shear_rate * time, name, text);
   }
   pvd += "</Collection>\n</VTKFile>\n";
   for (const auto& [file, text] : {std::pair{dir / "snapshots.pvd", pvd},

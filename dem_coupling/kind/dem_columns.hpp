@@ -100,6 +100,31 @@ inline constexpr DemColumn point[] = {
      false, true},
 };
 
+// strain.target_error (docs/dem_dataset.md, "Error-targeted run length"): the run-length keys of
+// a point (PointResult::run_length, summary.json strain.KEY) and their names, as /conditions/N
+// attributes (point_analysis.cpp) and /steady columns (dem_kind.cpp: strain_used, target_met,
+// achieved_error_NAME, target_met_NAME). Per observable NAME of target_observables
+// (deck/driver_parameters.hpp) the key PREFIX.NAME is named NAME_PREFIX_NAME: the second table
+// holds the key prefix and the name prefix.
+inline constexpr DemColumn run_length[] = {
+    {"used", {"strain_used", "1", "shear strain the point ran (strain.target_error)"}},
+    {"max", {"strain_max", "1", "largest shear strain of the point (strain.max)"}},
+    {"target_met",
+     {"target_met", "1",
+      "1 when the window is steady and every target of strain.target_error is met at the end, "
+      "else 0"},
+     false, true},
+};
+inline constexpr DemColumn run_length_per_observable[] = {
+    {"target_error.", {"target_error_", "1", "error target of the observable"}},
+    {"achieved_error.",
+     {"achieved_error_", "1",
+      "standard error of the observable as strain.target_error measures it (se(μ)/μ, se(φ), "
+      "se(T)/T)"}},
+    {"target_met.",
+     {"target_met_", "1", "1 when the error target of the observable is met, else 0"}, false, true},
+};
+
 // granflow-dem's series.tsv columns (dem_coupling/driver) and their datasets in
 // /conditions/N/series.
 inline constexpr DemColumn series[] = {
@@ -184,6 +209,16 @@ inline std::string dem_steady_name(std::string_view key) {
           c && c->error)
         return std::string(c->column.name) + "_err";
   }
+  return std::string(key);
+}
+
+// The name of a run-length key (run_length tables): "used" -> strain_used, "achieved_error.phi"
+// style keys PREFIX.NAME -> NAME_PREFIX + NAME; a key of neither keeps its own name.
+inline std::string dem_run_length_name(std::string_view key) {
+  if (const DemColumn* c = find_dem_column(dem_columns::run_length, key)) return c->column.name;
+  for (const DemColumn& c : dem_columns::run_length_per_observable)
+    if (key.starts_with(c.key))
+      return std::string(c.column.name) + std::string(key.substr(std::string_view(c.key).size()));
   return std::string(key);
 }
 

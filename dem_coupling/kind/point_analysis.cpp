@@ -29,8 +29,9 @@ Steady steady_of(const std::vector<double>& series, std::size_t start) {
 }
 
 // strain.target_error: the strain the point used and its errors against the targets, as
-// PointResult::run_length, /conditions/N attributes (strain_used, strain_max, target_met,
-// target_error_NAME, achieved_error_NAME, target_met_NAME) and a log line.
+// PointResult::run_length, /conditions/N attributes (named by dem_run_length_name,
+// dem_columns.hpp: strain_used, strain_max, target_met, target_error_NAME, achieved_error_NAME,
+// target_met_NAME) and a log line.
 void report_targets(const SteadyWindow& window, const ShearDeckParams& p, PointResult& r,
                     const std::string& group, core::ResultFile& out) {
   const TargetStatus status = target_status(window, p.targets);
@@ -38,9 +39,9 @@ void report_targets(const SteadyWindow& window, const ShearDeckParams& p, PointR
   r.run_length["used"] = used;
   r.run_length["max"] = p.total_strain;
   r.run_length["target_met"] = status.all_met ? 1.0 : 0.0;
-  out.attribute(group, "strain_used", used);
-  out.attribute(group, "strain_max", p.total_strain);
-  out.attribute(group, "target_met", status.all_met ? 1L : 0L);
+  out.attribute(group, dem_run_length_name("used"), used);
+  out.attribute(group, dem_run_length_name("max"), p.total_strain);
+  out.attribute(group, dem_run_length_name("target_met"), status.all_met ? 1L : 0L);
   std::string met, missed;
   for (std::size_t k = 0; k < target_observables.size(); ++k) {
     const double target = p.targets.error[k];
@@ -50,9 +51,9 @@ void report_targets(const SteadyWindow& window, const ShearDeckParams& p, PointR
     r.run_length["target_error." + name] = target;
     if (std::isfinite(achieved)) r.run_length["achieved_error." + name] = achieved;
     r.run_length["target_met." + name] = status.met[k] ? 1.0 : 0.0;
-    out.attribute(group, "target_error_" + name, target);
-    out.attribute(group, "achieved_error_" + name, achieved);
-    out.attribute(group, "target_met_" + name, status.met[k] ? 1L : 0L);
+    out.attribute(group, dem_run_length_name("target_error." + name), target);
+    out.attribute(group, dem_run_length_name("achieved_error." + name), achieved);
+    out.attribute(group, dem_run_length_name("target_met." + name), status.met[k] ? 1L : 0L);
     std::string& list = status.met[k] ? met : missed;
     list +=
         fmt::format("{}{} {:.3g} (target {:g})", list.empty() ? "" : ", ", name, achieved, target);

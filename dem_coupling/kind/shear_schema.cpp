@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <string>
 
 #include "continuum/sections/model_sections.hpp"
 #include "core/file_io.hpp"
@@ -176,9 +177,16 @@ core::Schema shear_schema() {
   strain
       .number("check", "",
               "shear strain between the checks of strain.target_error (rounded to whole servo "
-              "intervals; the run stops at most this much after the targets are met)")
+              "intervals)")
       .default_value("0.5")
       .greater_than(0);
+  strain
+      .integer("confirm_checks",
+               "consecutive checks at which the targets of strain.target_error must hold before "
+               "the run stops (1: the first check that meets them, whose errors are optimistic; "
+               "docs/dem_dataset.md)")
+      .default_value(std::to_string(default_confirm_checks))
+      .at_least(1);
   auto& statistics = s.section("statistics", "error bars that include the sample variability");
   statistics
       .integer("seeds",
@@ -213,8 +221,9 @@ core::Schema shear_schema() {
       .at_least(1);
   output
       .number("snapshot_strain", "",
-              "shear strain between particle snapshots (snapshot_<step>.vtu, indexed by strain "
-              "in snapshots.pvd: ParaView, OVITO); 0: none")
+              "shear strain between particle snapshots: snapshot_<step>.vtu for ParaView (indexed "
+              "by strain in snapshots.pvd) and snapshot_<step>.dump, a LAMMPS text dump of the "
+              "same spheres, for OVITO (File > Load File, snapshot_*.dump); 0: none")
       .default_value("0")
       .at_least(0);
   return s;
@@ -276,6 +285,7 @@ ShearDeckParams read_shear_params(const core::Case& c) {
         c.has(key))
       p.targets.error[k] = c.number(key);
   p.check_strain = c.number("strain.check");
+  p.targets.confirm_checks = static_cast<int>(c.integer("strain.confirm_checks"));
   if (p.targets.any() && c.has("strain.max")) p.total_strain = c.number("strain.max");
   p.profile_bins = static_cast<int>(c.integer("output.profile_bins"));
   p.snapshot_strain = c.number("output.snapshot_strain");

@@ -1,7 +1,9 @@
 // DEM particle snapshots (output.snapshot_strain): a 300-sphere dry shear over 1.2 strain on two
 // MPI ranks writes snapshot_<step>.vtu at strain 0, 0.4, 0.8 indexed in snapshots.pvd, which
 // VTK's own vtkXMLUnstructuredGridReader (the reader ParaView uses, python3-vtk9) and meshio open
-// with one vertex per sphere, the documented arrays and the same values
+// with one vertex per sphere, the documented arrays and the same values, and at the same steps
+// snapshot_<step>.dump, the LAMMPS text dump OVITO opens, whose header parses and whose spheres
+// and values are the .vtu's to its 6 digits, both listed in snapshots.csv
 // (tests/dem/check_snapshots.py); the same run without snapshots gives the same series to the
 // last digit (a dump only reads the state). ~10 s.
 #include <gtest/gtest.h>
