@@ -139,22 +139,26 @@ void write_target_columns(const std::vector<PointResult>& results, core::ResultF
   bool any = false;
   for (const auto& r : results) any = any || !r.run_length.empty();
   if (!any) return;
-  out.write("/steady/strain_used", column("used"), "1",
-            "shear strain the point ran (strain.target_error)");
-  out.write("/steady/target_met", flags("target_met"), "1",
-            "1 when the window is steady and every target of strain.target_error is met, else 0 "
-            "(stopped at strain.max)");
-  column_names.insert(column_names.end(), {"strain_used", "target_met"});
+  // Names, units and meanings from the run-length tables (kind/dem_columns.hpp).
+  auto write = [&](const std::string& key, const DemColumn& row, const std::string& name) {
+    if (row.integer)
+      out.write("/steady/" + name, flags(key), row.column.unit, row.column.description);
+    else
+      out.write("/steady/" + name, column(key), row.column.unit, row.column.description);
+    column_names.push_back(name);
+  };
+  for (const char* key : {"used", "target_met"})
+    write(key, *find_dem_column(dem_columns::run_length, key), dem_run_length_name(key));
   for (const char* name : target_observables) {
     const std::string n = name;
     bool given = false;
     for (const auto& r : results) given = given || r.run_length.count("target_met." + n);
     if (!given) continue;
-    out.write("/steady/achieved_error_" + n, column("achieved_error." + n), "1",
-              "standard error of " + n + " as strain.target_error measures it");
-    out.write("/steady/target_met_" + n, flags("target_met." + n), "1",
-              "1 when the error target of " + n + " is met, else 0");
-    column_names.insert(column_names.end(), {"achieved_error_" + n, "target_met_" + n});
+    for (const DemColumn& row : dem_columns::run_length_per_observable) {
+      if (std::string_view(row.key) == "target_error.") continue;  // an input: on /conditions/N
+      const std::string key = row.key + n;
+      write(key, row, dem_run_length_name(key));
+    }
   }
 }
 
