@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """PNG plot of a `kind: transient_pair` run (docs/transient_pairs.md): the undrained shear from
-rest in the DEM (seed mean and band, lowest to highest seed: dem_* of /transient_pair/group_G)
+rest in the DEM (seed mean and band, lowest to highest seed: /transient_pair/group_G/dem)
 and in the continuum (the REV's steps, the same group), p'(gamma)/p0 and tau(gamma)/p0, one colour per condition, the continuum with
 fitted force-chain parameters (calibrate section) dotted; the liquefaction threshold f p0 dotted
 black. Usage: plot_transient_pair.py RUN_DIR  ->  RUN_DIR/transient_pair.png"""
@@ -25,12 +25,12 @@ def main(run):
             color = "C{}".format(k)
             label = "phi0 {:.3f}, gamma_dot {:g} 1/s".format(float(cont.attrs["phi0"]),
                                                               float(cont.attrs["shear_rate"]))
-            s_dem = np.asarray(cont["dem_strain"])
+            dem = cont["dem"]
+            s_dem = np.asarray(dem["strain"])
             for ax, q in ((ax_p, "mean_stress"), (ax_t, "shear_stress")):
-                ax.fill_between(s_dem, np.asarray(cont["dem_" + q + "_min"]) / p0,
-                                np.asarray(cont["dem_" + q + "_max"]) / p0, color=color,
-                                alpha=0.2, lw=0)
-                ax.plot(s_dem, np.asarray(cont["dem_" + q + "_mean"]) / p0, color=color, lw=1.2,
+                ax.fill_between(s_dem, np.asarray(dem[q + "_min"]) / p0,
+                                np.asarray(dem[q + "_max"]) / p0, color=color, alpha=0.2, lw=0)
+                ax.plot(s_dem, np.asarray(dem[q + "_mean"]) / p0, color=color, lw=1.2,
                         label="DEM " + label)
                 ax.plot(np.asarray(cont["strain"]), np.asarray(cont[q]) / p0, color=color,
                         lw=1.6, ls="--", label="continuum " + label)

@@ -66,17 +66,18 @@ std::string metric_key(const std::string& side, const std::string& name, const s
 }
 
 // The DEM's seed mean and band of condition `index` beside the continuum (one file holds the
-// pair): dem_strain and dem_NAME_{mean,min,max} for the band's columns.
+// pair): group/dem/strain and group/dem/NAME_{mean,min,max} for the band's columns (a table of
+// its own: the DEM's samples are not the continuum's steps).
 void write_dem_band(core::RunContext& ctx, const std::filesystem::path& dem_h5, std::size_t index,
                     const std::string& group) {
   const std::string from = fmt::format("/transient/group_{}/", index);
-  ctx.result.write(group + "/dem_strain", core::read_dataset(dem_h5, from + "strain"), "1",
+  ctx.result.write(group + "/dem/strain", core::read_dataset(dem_h5, from + "strain"), "1",
                    "shear strain of the DEM samples");
   for (const auto& row : dem::dem_columns::transient_band)
     for (const char* part :
          {dem::dem_columns::band_mean, dem::dem_columns::band_min, dem::dem_columns::band_max}) {
       const std::string name = std::string(row.column.name) + part;
-      ctx.result.write(group + "/dem_" + name, core::read_dataset(dem_h5, from + name),
+      ctx.result.write(group + "/dem/" + name, core::read_dataset(dem_h5, from + name),
                        row.column.unit,
                        core::read_string_attribute(dem_h5, from + name, "description") +
                            " (DEM)");

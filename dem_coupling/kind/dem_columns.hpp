@@ -125,6 +125,48 @@ inline constexpr DemColumn run_length_per_observable[] = {
      {"target_met_", "1", "1 when the error target of the observable is met, else 0"}, false, true},
 };
 
+// A preparation (kind: dem_prepare, driver/prepare_stage.cpp): the columns of prepared.tsv (the
+// state at rest, one row; /prepared, one row per seed) and of prepare.tsv (the compression
+// history, one row per servo update; /seeds/K/series), and their dataset names.
+inline constexpr DemColumn preparation[] = {
+    {"phi", described(c::solid_fraction, "solid fraction φ0")},
+    {"p", described(c::mean_stress, "mean stress p0 = tr(P)/3")},
+    {"sigma_yy", described(c::normal_stress, "normal stress σ_yy = P_yy")},
+    {"Z", described(c::coordination_number, "coordination number Z = 2 N_c / N")},
+    {"Z_nr", {"coordination_number_nonrattler", "1",
+              "coordination number Z* without rattlers (< 2 contacts, removed repeatedly)"}},
+    {"nonrattler_fraction",
+     {"nonrattler_fraction", "1", "fraction of the particles that are not rattlers"}},
+    {"fabric_xx", {"fabric_xx", "1", "trace-free fabric <n n> − I/3 of the non-rattler contacts, xx"}},
+    {"fabric_yy", {"fabric_yy", "1", "trace-free fabric, yy"}},
+    {"fabric_zz", {"fabric_zz", "1", "trace-free fabric, zz"}},
+    {"fabric_xy", {"fabric_xy", "1", "trace-free fabric, xy"}},
+    {"fabric_xz", {"fabric_xz", "1", "trace-free fabric, xz"}},
+    {"fabric_yz", {"fabric_yz", "1", "trace-free fabric, yz"}},
+    {"anisotropy", {"fabric_anisotropy", "1", "fabric anisotropy sqrt(3/2 F':F')"}},
+    {"energy_ratio", {"kinetic_elastic_energy_ratio", "1",
+                      "kinetic (translation + rotation) / elastic energy of the contacts"}},
+    {"kinetic_energy", {"kinetic_energy", "J", "kinetic energy, translation + rotation"}},
+    {"elastic_energy", {"elastic_energy", "J", "normal elastic energy of the contacts"}},
+    {"overlap", {"mean_overlap", "m", "mean overlap <δ> of the touching pairs"}},
+    {"d_mean", {"mean_diameter", "m", "number-mean particle diameter"}},
+    {"lx", {"box_length_x", "m", "box edge L_x"}},
+    {"ly", {"box_length_y", "m", "box edge L_y"}},
+    {"lz", {"box_length_z", "m", "box edge L_z"}},
+    {"volume", {"box_volume", "m^3", "box volume"}},
+    {"P_xx", {"stress_xx", "Pa", "total stress P_xx (compression positive)"}},
+    {"P_yy", {"stress_yy", "Pa", "total stress P_yy"}},
+    {"P_zz", {"stress_zz", "Pa", "total stress P_zz"}},
+    {"P_xy", {"stress_xy", "Pa", "total stress P_xy"}},
+    {"P_xz", {"stress_xz", "Pa", "total stress P_xz"}},
+    {"P_yz", {"stress_yz", "Pa", "total stress P_yz"}},
+    {"at_target", {"at_target", "1", "1 when |p − p0| <= tolerance p0 at this update"}},
+    {"at_rest", {"at_rest", "1", "1 when the kinetic/elastic energy ratio is at most its limit"}},
+    {"particles", {"particles", "1", "number of spheres"}},
+    {"step", {"step", "1", "LIGGGHTS time step number"}},
+    {"time", described(c::time, "time since the start of the compression")},
+};
+
 // granflow-dem's series.tsv columns (dem_coupling/driver) and their datasets in
 // /conditions/N/series.
 inline constexpr DemColumn series[] = {

@@ -15,6 +15,7 @@
 #include "core/sweep_scheduler.hpp"
 #include "dem_coupling/deck/preparation_deck.hpp"
 #include "dem_coupling/dem_kind.hpp"
+#include "dem_coupling/kind/dem_columns.hpp"
 #include "dem_coupling/kind/launch.hpp"
 #include "dem_coupling/kind/series_table.hpp"
 
@@ -22,28 +23,20 @@ namespace granflow::dem {
 
 namespace {
 
-// Columns of prepared.tsv reported in summary.json (prepared.NAME) and /prepared (one row per
-// seed), with unit and meaning (driver/prepare_stage.cpp writes them).
-constexpr const char* reported[][3] = {
-    {"phi", "1", "solid fraction φ0"},
-    {"p", "Pa", "mean stress p0 = tr(P)/3"},
-    {"sigma_yy", "Pa", "normal stress σ_yy"},
-    {"Z", "1", "coordination number 2 N_c / N"},
-    {"Z_nr", "1", "coordination without rattlers (< 2 contacts, removed repeatedly)"},
-    {"nonrattler_fraction", "1", "fraction of the particles that are not rattlers"},
-    {"fabric_xx", "1", "trace-free fabric <n n> - I/3 (non-rattler contacts)"},
-    {"fabric_yy", "1", "trace-free fabric"},
-    {"fabric_zz", "1", "trace-free fabric"},
-    {"fabric_xy", "1", "trace-free fabric"},
-    {"fabric_xz", "1", "trace-free fabric"},
-    {"fabric_yz", "1", "trace-free fabric"},
-    {"anisotropy", "1", "fabric anisotropy sqrt(3/2 F':F')"},
-    {"energy_ratio", "1", "kinetic (translation + rotation) / elastic energy of the contacts"},
-    {"overlap", "m", "mean overlap of the touching pairs"},
-    {"lx", "m", "box edge"},
-    {"particles", "1", "number of spheres"},
-    {"step", "1", "time steps of the preparation"},
+// Columns of prepared.tsv reported in summary.json (prepared.KEY, short keys) and /prepared (one
+// row per seed), named as dem_columns::preparation (driver/prepare_stage.cpp writes them).
+constexpr const char* reported[] = {
+    "phi",       "p",         "sigma_yy",   "Z",         "Z_nr",         "nonrattler_fraction",
+    "fabric_xx", "fabric_yy", "fabric_zz",  "fabric_xy", "fabric_xz",    "fabric_yz",
+    "anisotropy", "energy_ratio", "overlap", "lx",       "particles",    "step",
 };
+
+// The dataset row of a preparation column (dem_columns::preparation); a column of neither keeps
+// its own name without a unit.
+core::Column preparation_column(const std::string& key) {
+  if (const DemColumn* row = find_dem_column(dem_columns::preparation, key)) return row->column;
+  return {nullptr, "1", nullptr};
+}
 
 core::Schema prepare_schema() {
   core::Schema s = core::kind_header(
@@ -178,22 +171,19 @@ int run_prepare(core::RunContext& ctx) {
     const double wall = packed.number();
     const std::string group = fmt::format("/seeds/{}", n);
     const SeriesTable history = read_series_table(dir / "prepare.tsv");
-    for (const std::string& name : history.names) {
-      std::string unit = name == "time" ? "s" : name == "volume" ? "m^3" : "1", doc = name;
-      for (const auto& [key, u, d] : reported)
-        if (name == key) unit = u, doc = d;
-      if (name.rfind("P_", 0) == 0 || name == "p" || name == "sigma_yy") unit = "Pa";
-      if (name == "lx" || name == "ly" || name == "lz" || name == "d_mean") unit = "m";
-      if (name.find("energy") != std::string::npos && name != "energy_ratio") unit = "J";
-      ctx.result.write(group + "/series/" + name, history.at(name), unit,
-                       doc + " (preparation history, one row per servo update)");
+    for (const std::string& key : history.names) {
+      const core::Column column = preparation_column(key);
+      ctx.result.write(group + "/series/" + (column.name ? column.name : key), history.at(key),
+                       column.unit,
+                       std::string(column.description ? column.description : key) +
+                           " (preparation history, one row per servo update)");
     }
     ctx.result.attribute(group, "seed", double(seed));
     ctx.summary.set(fmt::format("cost.seed_wall_s.{}", n), wall);
     std::map<std::string, double> row;
     if (status == 0) {
       const SeriesTable t = read_series_table(dir / "prepared.tsv");
-      for (const auto& [name, unit, doc] : reported)
+      for (const char* name : reported)
         if (t.rows() == 1 && t.columns.count(name)) row[name] = t.at(name)[0];
     }
     if (row.empty()) {
@@ -219,7 +209,7 @@ int run_prepare(core::RunContext& ctx) {
   // /prepared: one row per seed; summary: the mean over the seeds and its standard error
   // (between-seed standard deviation / sqrt(N); 0 for one seed).
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  for (const auto& [name, unit, doc] : reported) {
+  for (const char* name : reported) {
     std::vector<double> column;
     double sum = 0.0, sum2 = 0.0, count = 0.0;
     for (const auto& row : prepared) {
@@ -230,7 +220,8 @@ int run_prepare(core::RunContext& ctx) {
       sum2 += it->second * it->second;
       count += 1.0;
     }
-    ctx.result.write(std::string("/prepared/") + name, column, unit, doc);
+    const core::Column named = preparation_column(name);
+    ctx.result.write(std::string("/prepared/") + named.name, column, named.unit, named.description);
     if (count == 0.0) continue;
     const double mean = sum / count;
     const double var =

@@ -73,6 +73,7 @@ def check_file(run, kind):
             if not isinstance(unit, str):
                 fail(run, f"/{name}: unit attribute is {type(unit).__name__}, expected str")
             path = re.sub(r"/\d+(?=/|$)", "/N", re.sub(r"/curve_J/[^/]+", "/curve_J/L", "/" + name))
+            path = re.sub(r"/group_\d+(?=/|$)", "/group_G", path)  # /transient*/group_G
             group, leaf = path.rsplit("/", 1)
             group = re.sub(r"^/conditions/N", "", group) or "/"
             if (group, leaf) not in rows:

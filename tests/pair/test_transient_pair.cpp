@@ -8,12 +8,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "analysis/calibration/steady_shear_model.hpp"
 #include "analysis/transient_pair/continuum_transient.hpp"
 #include "analysis/transient_pair/transient_pair_kind.hpp"
 #include "continuum/sections/model_sections.hpp"
 #include "core/kind_registry.hpp"
+#include "core/process.hpp"
 #include "core/result_file.hpp"
 #include "dem_coupling/dem_kind.hpp"
 
@@ -134,7 +136,7 @@ TEST(TransientPair, LoosePackingInTheDemAndTheContinuum) {
   EXPECT_DOUBLE_EQ(s.get("transient.dem.peak_tau"), dem.get("transient.peak_tau"));
   EXPECT_TRUE(std::filesystem::exists(dir / "run" / "transient_pair.png"));
   // The DEM's band is in the pair's own file, the same numbers as the DEM run's.
-  EXPECT_EQ(core::read_dataset(h5, "/transient_pair/group_0/dem_mean_stress_mean"),
+  EXPECT_EQ(core::read_dataset(h5, "/transient_pair/group_0/dem/mean_stress_mean"),
             core::read_dataset(dir / "run" / "dem" / "result.h5",
                                "/transient/group_0/mean_stress_mean"));
 
@@ -154,6 +156,21 @@ TEST(TransientPair, LoosePackingInTheDemAndTheContinuum) {
   for (const char* key : {"transient.dem.peak_tau", "transient.dem.residual_tau",
                           "transient.cont.peak_tau", "transient.cont.residual_p", "transient.phi0"})
     EXPECT_EQ(t.get(key), s.get(key)) << key;
+  // The Python reader opens the three runs (the preparation, the DEM from it, the pair) and every
+  // dataset is listed with its unit in docs/results.md (tests/cli/check_results_reader.py).
+  {
+    core::ProcessOptions options;
+    options.output = dir / "reader.log";
+    const std::filesystem::path source = GRANFLOW_SOURCE_DIR;
+    const auto r = core::run_process(
+        {"/usr/bin/python3", (source / "tests/cli/check_results_reader.py").string(),
+         (dir / "prep").string(), "dem_prepare", (dir / "run" / "dem").string(), "dem",
+         (dir / "run").string(), "transient_pair"},
+        options);
+    std::ifstream log(dir / "reader.log");
+    const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(r.status, 0) << text;
+  }
   // A dem_run that is no DEM run (the preparation) is one case error naming the key.
   const auto wrong = core::Case::parse(pair_case(dir / "prep"), "tiny.yaml",
                                        {"dem_run=" + (dir / "prep").string()}, schema);
