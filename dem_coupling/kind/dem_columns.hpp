@@ -125,6 +125,23 @@ inline constexpr DemColumn run_length_per_observable[] = {
      {"target_met_", "1", "1 when the error target of the observable is met, else 0"}, false, true},
 };
 
+// The contact network without rattlers (extraction/contact_network.hpp), one definition for the
+// preparation, the transient series and their seed bands.
+inline constexpr core::Column coordination_number_nonrattler{
+    "coordination_number_nonrattler", "1",
+    "coordination number Z* without rattlers (< 2 contacts, removed repeatedly)"};
+inline constexpr core::Column nonrattler_fraction{
+    "nonrattler_fraction", "1", "fraction of the particles that are not rattlers"};
+inline constexpr core::Column fabric_anisotropy{"fabric_anisotropy", "1",
+                                                "fabric anisotropy sqrt(3/2 F':F')"};
+// series.tsv columns of a run from a preparation (/conditions/N/series).
+inline constexpr DemColumn network_series[] = {
+    {"Z_nr", coordination_number_nonrattler},
+    {"nonrattler_fraction", nonrattler_fraction},
+    {"fabric_xy", {"fabric_xy", "1", "xy entry of the trace-free fabric <n n> − I/3"}},
+    {"anisotropy", fabric_anisotropy},
+};
+
 // A preparation (kind: dem_prepare, driver/prepare_stage.cpp): the columns of prepared.tsv (the
 // state at rest, one row; /prepared, one row per seed) and of prepare.tsv (the compression
 // history, one row per servo update; /seeds/K/series), and their dataset names.
@@ -133,17 +150,15 @@ inline constexpr DemColumn preparation[] = {
     {"p", described(c::mean_stress, "mean stress p0 = tr(P)/3")},
     {"sigma_yy", described(c::normal_stress, "normal stress σ_yy = P_yy")},
     {"Z", described(c::coordination_number, "coordination number Z = 2 N_c / N")},
-    {"Z_nr", {"coordination_number_nonrattler", "1",
-              "coordination number Z* without rattlers (< 2 contacts, removed repeatedly)"}},
-    {"nonrattler_fraction",
-     {"nonrattler_fraction", "1", "fraction of the particles that are not rattlers"}},
+    {"Z_nr", coordination_number_nonrattler},
+    {"nonrattler_fraction", nonrattler_fraction},
     {"fabric_xx", {"fabric_xx", "1", "trace-free fabric <n n> − I/3 of the non-rattler contacts, xx"}},
     {"fabric_yy", {"fabric_yy", "1", "trace-free fabric, yy"}},
     {"fabric_zz", {"fabric_zz", "1", "trace-free fabric, zz"}},
     {"fabric_xy", {"fabric_xy", "1", "trace-free fabric, xy"}},
     {"fabric_xz", {"fabric_xz", "1", "trace-free fabric, xz"}},
     {"fabric_yz", {"fabric_yz", "1", "trace-free fabric, yz"}},
-    {"anisotropy", {"fabric_anisotropy", "1", "fabric anisotropy sqrt(3/2 F':F')"}},
+    {"anisotropy", fabric_anisotropy},
     {"energy_ratio", {"kinetic_elastic_energy_ratio", "1",
                       "kinetic (translation + rotation) / elastic energy of the contacts"}},
     {"kinetic_energy", {"kinetic_energy", "J", "kinetic energy, translation + rotation"}},
@@ -219,10 +234,8 @@ inline constexpr DemColumn transient_band[] = {
     {"tau", described(c::shear_stress, "shear stress τ = −P_xy")},
     {"sigma_yy", described(c::normal_stress, "normal stress σ_yy = P_yy")},
     {"T", described(c::granular_temperature, "T about the Lees-Edwards streaming profile")},
-    {"Z_nr", {"coordination_number_nonrattler", "1",
-              "coordination number without rattlers (< 2 contacts, removed repeatedly)"}},
-    {"nonrattler_fraction",
-     {"nonrattler_fraction", "1", "fraction of the particles that are not rattlers"}},
+    {"Z_nr", coordination_number_nonrattler},
+    {"nonrattler_fraction", nonrattler_fraction},
 };
 inline constexpr const char* band_mean = "_mean";  // seed mean, sample by sample
 inline constexpr const char* band_min = "_min";    // lowest seed

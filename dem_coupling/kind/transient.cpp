@@ -135,17 +135,9 @@ void TransientShear::absorb(core::RunContext& ctx, std::size_t n, const std::fil
   if (!enabled_) return;
   const SeriesTable t = read_series_table(dir / "series.tsv");
   if (t.rows() == 0) return;
-  // series.tsv column, dataset name, unit, meaning (extraction/contact_network.hpp)
-  constexpr const char* network[][4] = {
-      {"Z_nr", "coordination_number_nonrattler", "1",
-       "coordination without rattlers (< 2 contacts, removed repeatedly)"},
-      {"nonrattler_fraction", "nonrattler_fraction", "1",
-       "fraction of the particles that are not rattlers"},
-      {"fabric_xy", "fabric_xy", "1", "xy entry of the trace-free fabric <n n> - I/3"},
-      {"anisotropy", "fabric_anisotropy", "1", "fabric anisotropy sqrt(3/2 F':F')"},
-  };
-  for (const auto& [column, name, unit, doc] : network)
-    ctx.result.write(group + "/series/" + name, t.at(column), unit, doc);
+  for (const DemColumn& row : dem_columns::network_series)
+    ctx.result.write(group + "/series/" + row.column.name, t.at(row.key), row.column.unit,
+                     row.column.description);
   if (t.columns.count("p_fluid"))
     ctx.result.write(group + "/series/fluid_pressure", t.at("p_fluid"), "Pa",
                      "hydrodynamic (lubrication + drag) part of tr(P)/3; p' = p - this");
