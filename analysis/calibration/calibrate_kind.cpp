@@ -15,6 +15,7 @@
 #include "analysis/calibration/calibration.hpp"
 #include "analysis/calibration/dem_table.hpp"
 #include "analysis/calibration/model_curves.hpp"
+#include "continuum/model/closures.hpp"
 #include "continuum/sections/model_sections.hpp"
 #include "core/file_io.hpp"
 
@@ -106,12 +107,14 @@ core::Schema calibrate_schema() {
               "particle_friction column; absent: all rows, each predicted with its own μ_p")
       .at_least(0);
   auto& fit = s.section("fit", "the least-squares problem");
-  fit.string("parameters",
-             "parameters to fit, separated by spaces: restitution, jamming_fraction, "
-             "correlation_length_constant, liquid_viscosity_factor, "
-             "fluctuation_dissipation_factor; with force_chains on also critical_void_ratio, "
-             "critical_state_slope, critical_state_exponent, critical_stress_ratio, "
-             "contact_production, friction_rise, friction_rise_I0, viscous_dilatancy")
+  fit.string(
+         "parameters",
+         "parameters to fit, separated by spaces: restitution, jamming_fraction, "
+         "correlation_length_constant, correlation_length_onset, correlation_length_exponent, "
+         "liquid_viscosity_factor, "
+         "fluctuation_dissipation_factor; with force_chains on also critical_void_ratio, "
+         "critical_state_slope, critical_state_exponent, critical_stress_ratio, "
+         "contact_production, friction_rise, friction_rise_I0, viscous_dilatancy, inertial_contact")
       .required();
   fit.integer("max_evaluations", "largest number of residual evaluations of Levenberg-Marquardt")
       .default_value("4000")
@@ -158,17 +161,24 @@ void check_calibrate_case(const core::Case& c) {
       c.fail("fit.parameters", e.what());
     }
     if (!seen.insert(name).second) c.fail("fit.parameters", fmt::format("'{}' listed twice", name));
-    if (name == "correlation_length_constant" &&
-        c.string("collisional.correlation_length") != "jenkins")
+    const auto length = model::parse_correlation_length(c.string("collisional.correlation_length"));
+    if (name == "correlation_length_constant" && length == model::CorrelationLengthKind::diameter)
       c.fail("fit.parameters",
-             "correlation_length_constant only acts with collisional.correlation_length: jenkins");
+             "correlation_length_constant only acts with a collisional.correlation_length other "
+             "than the diameter");
+    if ((name == "correlation_length_onset" || name == "correlation_length_exponent") &&
+        length != model::CorrelationLengthKind::toward_jamming)
+      c.fail("fit.parameters",
+             "correlation_length_onset and _exponent only act with collisional.correlation_length: "
+             "toward_jamming");
     if ((name == "liquid_viscosity_factor" || name == "fluctuation_dissipation_factor") &&
         !c.boolean("liquid.enabled"))
       c.fail("fit.parameters", fmt::format("'{}' needs liquid.enabled: true", name));
     const std::string& key = parameter_spec(name).case_key;
     if (key.rfind("force_chains.", 0) == 0 && !c.boolean("force_chains.enabled"))
-      c.fail("fit.parameters",
-             fmt::format("'{}' is a force-chain parameter: needs force_chains.enabled: true", name));
+      c.fail(
+          "fit.parameters",
+          fmt::format("'{}' is a force-chain parameter: needs force_chains.enabled: true", name));
     if (key.rfind("steady.", 0) == 0 && !c.boolean("force_chains.enabled"))
       c.fail("fit.parameters", fmt::format("'{}' needs force_chains.enabled: true", name));
     if (name == "fluctuation_dissipation_factor" && !c.boolean("liquid.fluctuation_dissipation"))
@@ -242,15 +252,14 @@ int run_calibrate_case(core::RunContext& ctx) {
       if (std::isfinite(data.repeat_spread[k]))
         sum.set("data.repeat_spread." + observable_names()[k], data.repeat_spread[k]);
     if (data.repeat_groups > 0)
-      log.info("{} repeated conditions: pooled spread / stated σ = {}", data.repeat_groups,
-               [&] {
-                 std::string s;
-                 for (int k = 0; k < observable_count; ++k)
-                   if (std::isfinite(data.repeat_spread[k]))
-                     s += fmt::format("{}{} {:.3g}", s.empty() ? "" : ", ",
-                                      observable_names()[k], data.repeat_spread[k]);
-                 return s.empty() ? std::string("no stated errors") : s;
-               }());
+      log.info("{} repeated conditions: pooled spread / stated σ = {}", data.repeat_groups, [&] {
+        std::string s;
+        for (int k = 0; k < observable_count; ++k)
+          if (std::isfinite(data.repeat_spread[k]))
+            s += fmt::format("{}{} {:.3g}", s.empty() ? "" : ", ", observable_names()[k],
+                             data.repeat_spread[k]);
+        return s.empty() ? std::string("no stated errors") : s;
+      }());
   }
 
   // ---- fit
@@ -357,8 +366,9 @@ int run_calibrate_case(core::RunContext& ctx) {
             "index of the data file (data.files order)");
   out.write("/data/row", integers([](const DataPoint& p) { return long(p.row); }), "1",
             "row in that file's /steady table (a text table: its data row)");
-  out.write("/data/protocol",
-            integers([](const DataPoint& p) { return p.protocol == Protocol::constant_volume ? 1L : 0L; }),
+  out.write("/data/protocol", integers([](const DataPoint& p) {
+              return p.protocol == Protocol::constant_volume ? 1L : 0L;
+            }),
             "1", "0: constant pressure (σ_yy imposed), 1: constant volume (φ imposed)");
   std::vector<long> training_flag;
   for (char h : held) training_flag.push_back(h ? 0L : 1L);
@@ -407,9 +417,10 @@ int run_calibrate_case(core::RunContext& ctx) {
     residuals[static_cast<std::size_t>(r.residual_point[j]) * observables.size() +
               static_cast<std::size_t>(r.residual_observable[j])] =
         r.normalised_residuals[static_cast<Eigen::Index>(j)];
-  out.write_matrix("/fit/normalised_residuals", residuals, training.size(), observables.size(), "1",
-                   "(y - f)/σ at the estimate, training points × observables (NaN: not tested, e.g. the "
-                   "quantity the row's protocol imposes)");
+  out.write_matrix(
+      "/fit/normalised_residuals", residuals, training.size(), observables.size(), "1",
+      "(y - f)/σ at the estimate, training points × observables (NaN: not tested, e.g. the "
+      "quantity the row's protocol imposes)");
   const auto vec = [](const Eigen::VectorXd& v) {
     return std::vector<double>(v.data(), v.data() + v.size());
   };
@@ -469,10 +480,14 @@ int run_calibrate_case(core::RunContext& ctx) {
 
 void register_calibrate_kinds(core::KindRegistry& registry) {
   core::KindEntry entry{
-      "calibrate", "",
+      "calibrate",
+      "",
       "fit closure parameters to DEM steady simple-shear data (weighted least squares)",
-      calibrate_schema(), check_calibrate_case, run_calibrate_case,
-      "cases/calibrate/dry_mu_I.yaml", check_calibrate_data};
+      calibrate_schema(),
+      check_calibrate_case,
+      run_calibrate_case,
+      "cases/calibrate/dry_mu_I.yaml",
+      check_calibrate_data};
   entry.report = calibrate_report_section;
   registry.add(std::move(entry));
 }

@@ -10,11 +10,11 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "statistics/least_squares.hpp"
 #include "continuum/sections/model_sections.hpp"
 #include "core/result_columns.hpp"
 #include "core/result_file.hpp"
 #include "core/run.hpp"
+#include "statistics/least_squares.hpp"
 
 namespace granflow::calibration {
 
@@ -26,7 +26,11 @@ const std::vector<ParameterSpec>& parameter_specs() {
        "normal restitution e_r (enters ε, J and the correlation length)"},
       {"jamming_fraction", "collisional.jamming_fraction", 0.49, 0.74, "ν_c, singularity of g0"},
       {"correlation_length_constant", "collisional.correlation_length_constant", 1e-6, 1e3,
-       "c of Jenkins' correlation length (needs collisional.correlation_length: jenkins)"},
+       "c of Jenkins' correlation length or c_L of toward_jamming (needs one of them)"},
+      {"correlation_length_onset", "collisional.correlation_length_onset", 0.3, 0.58,
+       "ν_L where toward_jamming's L starts to grow (needs correlation_length: toward_jamming)"},
+      {"correlation_length_exponent", "collisional.correlation_length_exponent", 0.1, 4.0,
+       "n of toward_jamming's L/d ∝ (ν_c - ν)^-n (needs correlation_length: toward_jamming)"},
       {"liquid_viscosity_factor", "liquid.viscosity", 1e-6, 1e6,
        "factor on η0 (σ_L, Λ and drag); written as liquid.viscosity = factor × η0"},
       {"fluctuation_dissipation_factor", "", 1e-6, 1e6,
@@ -45,6 +49,8 @@ const std::vector<ParameterSpec>& parameter_specs() {
        "Δμ_FC of μ_FC(I) = μ_cs + Δμ_FC/(1 + I_0/I) (granflow's own; start it above 0)"},
       {"friction_rise_I0", "steady.friction_rise_I0", 1e-3, 10.0,
        "I_0 of the force chains' friction rise"},
+      {"inertial_contact", "steady.inertial_contact", 0.0, 10.0,
+       "a_c of the contacts' dense inertial stress ρ_p (a_c d γ̇/(ν_c - ν))² (granflow's own)"},
       {"viscous_dilatancy", "steady.viscous_dilatancy", 0.0, 10.0,
        "a_J of e_Γ + a_J √J (granflow's own, immersed; start it above 0)"},
   };
@@ -64,6 +70,8 @@ double parameter_value(const CalibratedModel& m, const std::string& name) {
   if (name == "restitution") return col.restitution;
   if (name == "jamming_fraction") return col.jamming_fraction;
   if (name == "correlation_length_constant") return col.correlation_length_constant;
+  if (name == "correlation_length_onset") return col.correlation_length_onset;
+  if (name == "correlation_length_exponent") return col.correlation_length_exponent;
   if (name == "liquid_viscosity_factor")
     return m.settings.liquid_parameters.viscosity / m.reference_liquid_viscosity;
   if (name == "fluctuation_dissipation_factor") return m.factors.fluctuation_dissipation;
@@ -76,6 +84,7 @@ double parameter_value(const CalibratedModel& m, const std::string& name) {
   if (name == "friction_rise") return m.factors.friction_rise;
   if (name == "friction_rise_I0") return m.factors.friction_rise_I0;
   if (name == "viscous_dilatancy") return m.factors.viscous_dilatancy;
+  if (name == "inertial_contact") return m.factors.inertial_contact;
   return parameter_spec(name).lower;  // throws for unknown names
 }
 
@@ -87,6 +96,10 @@ void set_parameter(CalibratedModel& m, const std::string& name, double value) {
     col.jamming_fraction = value;
   else if (name == "correlation_length_constant")
     col.correlation_length_constant = value;
+  else if (name == "correlation_length_onset")
+    col.correlation_length_onset = value;
+  else if (name == "correlation_length_exponent")
+    col.correlation_length_exponent = value;
   else if (name == "liquid_viscosity_factor")
     m.settings.liquid_parameters.viscosity = value * m.reference_liquid_viscosity;
   else if (name == "fluctuation_dissipation_factor")
@@ -107,6 +120,8 @@ void set_parameter(CalibratedModel& m, const std::string& name, double value) {
     m.factors.friction_rise_I0 = value;
   else if (name == "viscous_dilatancy")
     m.factors.viscous_dilatancy = value;
+  else if (name == "inertial_contact")
+    m.factors.inertial_contact = value;
   else
     parameter_spec(name);  // throws
 }
@@ -117,8 +132,8 @@ double case_value(const CalibratedModel& m, const std::string& name) {
 }
 
 const std::vector<std::string>& observable_names() {
-  static const std::vector<std::string> names = {"friction", "solid_fraction",
-                                                 "scaled_temperature", "scaled_pressure"};
+  static const std::vector<std::string> names = {"friction", "solid_fraction", "scaled_temperature",
+                                                 "scaled_pressure"};
   return names;
 }
 
@@ -129,8 +144,8 @@ const char* protocol_name(Protocol protocol) {
 Protocol parse_protocol(const std::string& name) {
   if (name == "constant_pressure") return Protocol::constant_pressure;
   if (name == "constant_volume") return Protocol::constant_volume;
-  throw std::invalid_argument(fmt::format(
-      "unknown protocol '{}' (valid: constant_pressure, constant_volume)", name));
+  throw std::invalid_argument(
+      fmt::format("unknown protocol '{}' (valid: constant_pressure, constant_volume)", name));
 }
 
 Observable imposed_observable(Protocol protocol) {
@@ -154,10 +169,10 @@ Observable parse_observable(const std::string& name) {
   const auto& names = observable_names();
   for (std::size_t i = 0; i < names.size(); ++i)
     if (names[i] == name) return static_cast<Observable>(i);
-  throw std::invalid_argument(fmt::format(
-      "unknown observable '{}' (valid: friction, solid_fraction, scaled_temperature, "
-      "scaled_pressure)",
-      name));
+  throw std::invalid_argument(
+      fmt::format("unknown observable '{}' (valid: friction, solid_fraction, scaled_temperature, "
+                  "scaled_pressure)",
+                  name));
 }
 
 DemDataset read_dem_dataset(const std::filesystem::path& file, int source_index) {
@@ -183,15 +198,15 @@ DemDataset read_dem_dataset(const std::filesystem::path& file, int source_index)
   try {
     out.protocol = parse_protocol(control);
   } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(fmt::format("{}: /steady attribute control: {}", file.string(), e.what()));
+    throw std::runtime_error(
+        fmt::format("{}: /steady attribute control: {}", file.string(), e.what()));
   }
   // The names of the DEM kind's /steady table (dem_coupling/kind/dem_columns.hpp).
   namespace c = core::columns;
   const std::string err = c::error_suffix;
   const auto shear_rate = column(c::shear_rate.name), sigma = column(c::normal_stress.name),
              mu = column(c::friction.name), mu_err = column(c::friction.name + err),
-             phi = column(c::solid_fraction.name),
-             phi_err = column(c::solid_fraction.name + err),
+             phi = column(c::solid_fraction.name), phi_err = column(c::solid_fraction.name + err),
              T = column(c::granular_temperature.name),
              T_err = column(c::granular_temperature.name + err),
              T_scaled = column(c::scaled_temperature.name),

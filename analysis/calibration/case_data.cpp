@@ -54,6 +54,7 @@ CalibratedModel read_case_model(const core::Case& c) {
     m.factors.friction_rise = c.number("steady.friction_rise");
     m.factors.friction_rise_I0 = c.number("steady.friction_rise_I0");
     m.factors.viscous_dilatancy = c.number("steady.viscous_dilatancy");
+    m.factors.inertial_contact = c.number("steady.inertial_contact");
     m.factors.skeleton_from_model = c.string("steady.skeleton_stress") == "force_chain_model";
   }
   m.factors.mixed_number_alpha = c.number("liquid.trulsson_alpha");
@@ -114,17 +115,17 @@ CaseData read_case_data(const core::Case& c) {
     try {
       table = read_dem_table(spec);
     } catch (const TableError& e) {
-      const std::string at = e.line > 0 ? fmt::format("{}:{}", spec.file.string(), e.line)
-                                        : spec.file.string();
+      const std::string at =
+          e.line > 0 ? fmt::format("{}:{}", spec.file.string(), e.line) : spec.file.string();
       throw core::CaseError(fmt::format("{}: {}: {} (case {})", at, e.key, e.what(),
                                         c.location(c.has(e.key) ? e.key : "data.table")));
     } catch (const std::exception& e) {
       c.fail("data.table", e.what());
     }
     if (table.units == "dimensionless")
-      for (const auto& [key, value] : {std::pair{"material.diameter", col.diameter},
-                                       std::pair{"material.particle_density",
-                                                 col.particle_density}})
+      for (const auto& [key, value] :
+           {std::pair{"material.diameter", col.diameter},
+            std::pair{"material.particle_density", col.particle_density}})
         if (std::abs(value - 1) > 1e-12)
           c.fail(key, fmt::format("1 with the dimensionless table {} (units d = ρ_p = γ̇ = 1: the "
                                   "continuum runs in the same units, force_chains."
@@ -168,9 +169,8 @@ CaseData read_case_data(const core::Case& c) {
     for (int k = 0; k < observable_count; ++k)
       point.floor[k] = c.number("data.error_floor." + observable_names()[k]);
   const auto source_name = [&](int s) {
-    return s < static_cast<int>(files.size())
-               ? files[static_cast<std::size_t>(s)]
-               : tables[static_cast<std::size_t>(s) - files.size()];
+    return s < static_cast<int>(files.size()) ? files[static_cast<std::size_t>(s)]
+                                              : tables[static_cast<std::size_t>(s) - files.size()];
   };
   for (const auto o : observables) {
     const std::string& on = observable_names()[static_cast<int>(o)];
@@ -193,7 +193,8 @@ CaseData read_case_data(const core::Case& c) {
   }
   // ---- repeated conditions: kept as independent rows, their spread reported
   const auto same = [](double a, double b) {
-    return (std::isnan(a) && std::isnan(b)) || std::abs(a - b) <= 1e-9 * std::max(std::abs(a), std::abs(b));
+    return (std::isnan(a) && std::isnan(b)) ||
+           std::abs(a - b) <= 1e-9 * std::max(std::abs(a), std::abs(b));
   };
   const auto control = [](const DataPoint& p) {
     return p.protocol == Protocol::constant_volume ? p.value[1] : p.normal_stress;
@@ -240,11 +241,11 @@ CaseData read_case_data(const core::Case& c) {
       spread += fmt::format("; {} SD {:.3g} (stated σ {:.3g})", observable_names()[k],
                             std::sqrt(s2 / (n - 1)), std::sqrt(e2 / n));
     }
-    out.repeat_notes.push_back(fmt::format(
-        "repeated condition ({}, γ̇ = {:g}, {} = {:g}) in {} rows of {} ({}){}",
-        protocol_name(first.protocol), first.shear_rate,
-        first.protocol == Protocol::constant_volume ? "φ" : "σ_yy", control(first),
-        members.size(), source_name(first.source), rows, spread));
+    out.repeat_notes.push_back(
+        fmt::format("repeated condition ({}, γ̇ = {:g}, {} = {:g}) in {} rows of {} ({}){}",
+                    protocol_name(first.protocol), first.shear_rate,
+                    first.protocol == Protocol::constant_volume ? "φ" : "σ_yy", control(first),
+                    members.size(), source_name(first.source), rows, spread));
   }
   for (int k = 0; k < observable_count; ++k)
     if (df[k] > 0 && sigma2[k] > 0)

@@ -73,9 +73,14 @@ CalibratedModel start_model(const core::Case& c) { return read_case_model(c); }
 
 std::string dropped_because(const std::string& name, const core::Case& c) {
   const std::string& key = parameter_spec(name).case_key;
-  if (name == "correlation_length_constant" &&
-      c.string("collisional.correlation_length") != "jenkins")
-    return "acts only with collisional.correlation_length: jenkins";
+  if (name.rfind("correlation_length_", 0) == 0 &&
+      model::parse_correlation_length(c.string("collisional.correlation_length")) ==
+          model::CorrelationLengthKind::diameter)
+    return "acts only with a correlation length other than the diameter";
+  if ((name == "correlation_length_onset" || name == "correlation_length_exponent") &&
+      model::parse_correlation_length(c.string("collisional.correlation_length")) !=
+          model::CorrelationLengthKind::toward_jamming)
+    return "acts only with collisional.correlation_length: toward_jamming";
   // steady.* (contact production, friction rise) are terms of the force chains' steady state
   if ((key.rfind("force_chains.", 0) == 0 || key.rfind("steady.", 0) == 0 ||
        name == "contact_production") &&
@@ -114,9 +119,9 @@ ClosureStudy load_closure_study(const fs::path& file, const std::vector<std::str
   auto schema = std::make_shared<core::Schema>(calibrate_schema());
   study.schema = schema;
   if (!closures.IsDefined())
-    located(file, 1, "closures",
-            "a top-level section closures: {key.path: [values]} (keys: " + closure_keys(*schema) +
-                ")");
+    located(
+        file, 1, "closures",
+        "a top-level section closures: {key.path: [values]} (keys: " + closure_keys(*schema) + ")");
   if (!closures.IsMap() || closures.size() == 0)
     located(file, closures_line + 1, "closures",
             "a non-empty map of choice or boolean key paths to lists of values");
@@ -129,8 +134,8 @@ ClosureStudy load_closure_study(const fs::path& file, const std::vector<std::str
     for (std::string line; std::getline(text_lines, line);) lines.push_back(line);
   }
   for (std::size_t j = static_cast<std::size_t>(closures_line); j < lines.size(); ++j) {
-    const bool top_level = !lines[j].empty() && lines[j][0] != ' ' && lines[j][0] != '\t' &&
-                           lines[j][0] != '#';
+    const bool top_level =
+        !lines[j].empty() && lines[j][0] != ' ' && lines[j][0] != '\t' && lines[j][0] != '#';
     if (j > static_cast<std::size_t>(closures_line) && top_level) break;
     lines[j].clear();
   }
@@ -146,8 +151,8 @@ ClosureStudy load_closure_study(const fs::path& file, const std::vector<std::str
     const std::string path = "closures." + key;
     const core::Field* field = find_field(*schema, key);
     const std::string section = key.substr(0, key.find('.'));
-    if (!field || std::find(model_sections.begin(), model_sections.end(), section) ==
-                      model_sections.end())
+    if (!field ||
+        std::find(model_sections.begin(), model_sections.end(), section) == model_sections.end())
       located(file, line, path,
               "a choice or boolean key path of the model sections (one of: " +
                   closure_keys(*schema) + ")");
@@ -160,8 +165,7 @@ ClosureStudy load_closure_study(const fs::path& file, const std::vector<std::str
     if (user_keys.count(key))
       located(file, line, path, "a key not also set on the command line (--set " + key + "=...)");
     const bool boolean = field->type() == core::ValueType::boolean;
-    const std::string expected =
-        boolean ? std::string("true or false") : field->expectation();
+    const std::string expected = boolean ? std::string("true or false") : field->expectation();
     if (!item.second.IsSequence() || item.second.size() == 0)
       located(file, line, path, "a non-empty list of values, " + expected + ", e.g. [a, b]");
     std::vector<std::string> values;
@@ -175,9 +179,9 @@ ClosureStudy load_closure_study(const fs::path& file, const std::vector<std::str
         if (!v.IsScalar() || !YAML::convert<bool>::decode(v, flag))
           located(file, value_line, at, fmt::format("{}; got '{}'", expected, value));
         value = flag ? "true" : "false";
-      } else if (!v.IsScalar() || std::find(field->choice_names().begin(),
-                                            field->choice_names().end(),
-                                            value) == field->choice_names().end()) {
+      } else if (!v.IsScalar() ||
+                 std::find(field->choice_names().begin(), field->choice_names().end(), value) ==
+                     field->choice_names().end()) {
         located(file, value_line, at, fmt::format("{}; got '{}'", expected, value));
       }
       if (std::find(values.begin(), values.end(), value) != values.end())
@@ -306,7 +310,8 @@ ClosureFit fit_combination(const ClosureStudy& study, std::size_t index, const S
       out.holdout_rel_err.push_back(mean_relative_error(calibrated, data.holdout, o));
       out.train_rel_err.push_back(mean_relative_error(calibrated, data.training, o));
     }
-    for (const auto& point : data.used) out.no_steady_state += predict(calibrated, point).ok ? 0 : 1;
+    for (const auto& point : data.used)
+      out.no_steady_state += predict(calibrated, point).ok ? 0 : 1;
   } catch (const std::exception& e) {
     out.ok = false;
     out.error = e.what();
@@ -377,11 +382,10 @@ int run_closure_study_command(const ClosureStudyCommand& command, int rank) {
   std::vector<ClosureFit> fits(count);
   const core::ComputeCondition compute = [&](const core::ConditionContext& cc) {
     const ClosureFit f = fit_combination(study, cc.index, data);
-    cc.log->info("combination {}/{} ({}): {}", cc.index + 1, count,
-                 study.combinations[cc.index].label,
-                 f.ok ? fmt::format("χ² = {:.6g}, χ²_red = {:.4g}, AIC = {:.6g}", f.chi2,
-                                    f.chi2_red, f.aic)
-                      : "fit failed: " + f.error);
+    cc.log->info(
+        "combination {}/{} ({}): {}", cc.index + 1, count, study.combinations[cc.index].label,
+        f.ok ? fmt::format("χ² = {:.6g}, χ²_red = {:.4g}, AIC = {:.6g}", f.chi2, f.chi2_red, f.aic)
+             : "fit failed: " + f.error);
     return pack(f);
   };
   const core::AbsorbCondition absorb = [&](std::size_t n, const std::string& bytes) {
@@ -403,8 +407,8 @@ int run_closure_study_command(const ClosureStudyCommand& command, int rank) {
     return code;
   }
 
-  const fs::path dir = command.out_dir.empty() ? fs::path("runs") / (study.name + "_closures")
-                                               : command.out_dir;
+  const fs::path dir =
+      command.out_dir.empty() ? fs::path("runs") / (study.name + "_closures") : command.out_dir;
   if (fs::exists(dir)) {
     if (!command.force) {
       std::cerr << "error: " << dir.string()
@@ -438,11 +442,12 @@ int run_closure_study_command(const ClosureStudyCommand& command, int rank) {
              data.training.size(), data.holdout.size(), join(study.parameters, " "));
     for (const auto& comb : study.combinations) {  // as pair and calibrate warn
       const auto& m = start_model(*comb.run_case).settings;
-      if (m.force_chains && 1 / (1 + m.force_chain_parameters.e_Gamma) >=
-                                m.collisional_parameters.jamming_fraction)
-        log.warn("{}: 1/(1+e_Γ) ≥ ν_c at the start: the force chains carry no load and the fit "
-                 "cannot move them (start collisional.jamming_fraction above 1/(1+e_Γ))",
-                 comb.label);
+      if (m.force_chains &&
+          1 / (1 + m.force_chain_parameters.e_Gamma) >= m.collisional_parameters.jamming_fraction)
+        log.warn(
+            "{}: 1/(1+e_Γ) ≥ ν_c at the start: the force chains carry no load and the fit "
+            "cannot move them (start collisional.jamming_fraction above 1/(1+e_Γ))",
+            comb.label);
     }
     core::run_conditions(*ctx, count, compute, absorb);
     if (core::interrupted()) {

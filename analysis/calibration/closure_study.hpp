@@ -30,10 +30,10 @@ namespace granflow::calibration {
 inline constexpr const char* closure_study_marker = ".granflow-study";
 
 struct ClosureCombination {
-  std::vector<std::string> values;      // one per ClosureStudy::keys ("torquato", "true")
-  std::string label;                    // "radial_distribution=torquato, force_chains=true"
-  std::vector<std::string> parameters;  // the case's fit.parameters that act here (fitted)
-  std::vector<std::string> dropped;     // those that do not act here (not fitted)
+  std::vector<std::string> values;             // one per ClosureStudy::keys ("torquato", "true")
+  std::string label;                           // "radial_distribution=torquato, force_chains=true"
+  std::vector<std::string> parameters;         // the case's fit.parameters that act here (fitted)
+  std::vector<std::string> dropped;            // those that do not act here (not fitted)
   std::shared_ptr<const core::Case> run_case;  // the calibrate case with these options applied
 };
 
@@ -43,7 +43,7 @@ struct ClosureStudy {
   std::shared_ptr<const core::Schema> schema;  // the calibrate schema the cases refer to
   std::shared_ptr<const core::Case> base;      // the case without `closures:` (case.yaml)
   std::vector<std::string> keys;               // closures key paths, in file order
-  std::vector<std::string> short_keys;  // for tables: radial_distribution, force_chains, ...
+  std::vector<std::string> short_keys;         // for tables: radial_distribution, force_chains, ...
   std::vector<std::vector<std::string>> options;  // values listed for each key
   std::vector<std::string> parameters;            // fit.parameters as written in the case
   std::vector<Observable> observables;            // data.observables
@@ -76,7 +76,8 @@ struct ClosureFit {
   double chi2 = NAN, chi2_red = NAN, aic = NAN, aicc = NAN;
   int k = 0, dof = 0, residuals = 0, evaluations = 0, status = 0;
   bool identifiable = false, inside_domain = false;
-  int no_steady_state = 0;  // used points (fitted or held out) the model cannot carry at the estimate
+  int no_steady_state =
+      0;  // used points (fitted or held out) the model cannot carry at the estimate
   std::vector<double> holdout_rel_err, train_rel_err;  // per ClosureStudy::observables
 };
 ClosureFit fit_combination(const ClosureStudy& study, std::size_t index, const StudyData& data);

@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <functional>
 #include <map>
+#include <sstream>
 #include <utility>
 
 #include "analysis/calibration/closure_study.hpp"
@@ -40,8 +40,8 @@ std::string observable(Observable o) { return observable_names()[static_cast<int
 struct Column {
   std::string name, title, format;  // title "": not in report.md
   bool numeric, in_csv = true;
-  std::vector<double> values;       // per combination (numeric columns)
-  std::vector<std::string> texts;   // per combination (text columns)
+  std::vector<double> values;      // per combination (numeric columns)
+  std::vector<std::string> texts;  // per combination (text columns)
   std::string cell(std::size_t i, bool report) const {
     return numeric ? num(values[i], report ? format : "{:.10g}") : texts[i];
   }
@@ -87,14 +87,18 @@ void build_table(Study& t) {
   t.number("rank", "rank", "{:.0f}", [&](std::size_t i) { return rank_of(i) + 1.0; });
   t.number("combination", "", "", [](std::size_t i) { return double(i); });
   for (std::size_t j = 0; j < s.keys.size(); ++j) {
-    t.text(s.keys[j], s.short_keys[j], [&, j](std::size_t i) { return s.combinations[i].values[j]; });
+    t.text(s.keys[j], s.short_keys[j],
+           [&, j](std::size_t i) { return s.combinations[i].values[j]; });
     // study.json: the value's index in the closures list (booleans: 1 = true)
-    t.number("option." + s.keys[j], "", "", [&, j](std::size_t i) {
-      const auto& v = s.combinations[i].values[j];
-      const auto& list = s.options[j];
-      if (v == "true" || v == "false") return v == "true" ? 1.0 : 0.0;
-      return double(std::find(list.begin(), list.end(), v) - list.begin());
-    }, false);
+    t.number(
+        "option." + s.keys[j], "", "",
+        [&, j](std::size_t i) {
+          const auto& v = s.combinations[i].values[j];
+          const auto& list = s.options[j];
+          if (v == "true" || v == "false") return v == "true" ? 1.0 : 0.0;
+          return double(std::find(list.begin(), list.end(), v) - list.begin());
+        },
+        false);
   }
   t.number("k", "k", "{:.0f}", [&](std::size_t i) { return double(fits[i].k); });
   t.text("parameters", "", [&](std::size_t i) { return join(s.combinations[i].parameters, ";"); });
@@ -154,7 +158,8 @@ void write_csv(const Study& t, const fs::path& file) {
     out << "\n";
   };
   row([](const Column& c) { return c.name; });
-  for (const std::size_t i : t.order) row([&](const Column& c) { return csv_text(c.cell(i, false)); });
+  for (const std::size_t i : t.order)
+    row([&](const Column& c) { return csv_text(c.cell(i, false)); });
   core::write_text_file(file, out.str());
 }
 
@@ -178,14 +183,14 @@ void write_report_text(const Study& t, bool plotted, std::ostream& out) {
   const auto& s = t.study;
   const auto& base = *s.base;
   out << "# Closure study: " << s.name << "\n\n"
-      << fmt::format("Case `{}`, data `{}`: {} points, {} fitted, {} held out (holdout.mode: {}); "
-                     "observables {}; fit.parameters `{}`. {} combinations in {:.1f} s.\n\n",
-                     s.file.string(),
-                     base.has("data.files") ? base.string("data.files") : base.string("data.table"),
-                     t.data.used.size(),
-                     t.data.training.size(), t.data.holdout.size(), base.string("holdout.mode"),
-                     base.string("data.observables"), base.string("fit.parameters"),
-                     t.fits.size(), t.wall_s)
+      << fmt::format(
+             "Case `{}`, data `{}`: {} points, {} fitted, {} held out (holdout.mode: {}); "
+             "observables {}; fit.parameters `{}`. {} combinations in {:.1f} s.\n\n",
+             s.file.string(),
+             base.has("data.files") ? base.string("data.files") : base.string("data.table"),
+             t.data.used.size(), t.data.training.size(), t.data.holdout.size(),
+             base.string("holdout.mode"), base.string("data.observables"),
+             base.string("fit.parameters"), t.fits.size(), t.wall_s)
       << "Ranked by AIC = χ² + 2k (Akaike 1974; k fitted parameters, χ² with the DEM error "
          "bars), ties by χ²_red. AICc = AIC + 2k(k+1)/(n−k−1), n residuals (Hurvich & Tsai "
          "1989). weight = exp(−ΔAIC/2)/Σ (Burnham & Anderson 2002). held-out: mean |f − y|/|y| "
@@ -213,9 +218,10 @@ void write_report_text(const Study& t, bool plotted, std::ostream& out) {
     }
   if (dropped.empty()) out << "Every combination fits every parameter of fit.parameters.\n";
   for (const auto& [p, why] : dropped)
-    out << fmt::format("- `{}` is not fitted in {} of {} combinations ({}); it keeps the case's "
-                       "value there and does not count in k.\n",
-                       p, why.second, s.combinations.size(), why.first);
+    out << fmt::format(
+        "- `{}` is not fitted in {} of {} combinations ({}); it keeps the case's "
+        "value there and does not count in k.\n",
+        p, why.second, s.combinations.size(), why.first);
   const std::size_t b = t.order.front();
   const auto& f = t.fits[b];
   const auto& comb = s.combinations[b];
@@ -224,9 +230,10 @@ void write_report_text(const Study& t, bool plotted, std::ostream& out) {
     out << "no combination could be fitted.\n";
     return;
   }
-  out << fmt::format("χ² = {:.4g}, χ²_red = {:.4g} ({} dof), AIC = {:.5g}.\n\n", f.chi2,
-                     f.chi2_red, f.dof, f.aic)
-      << "| parameter | case key | estimate | standard error | on a bound |\n|---|---|---|---|---|\n";
+  out << fmt::format("χ² = {:.4g}, χ²_red = {:.4g} ({} dof), AIC = {:.5g}.\n\n", f.chi2, f.chi2_red,
+                     f.dof, f.aic)
+      << "| parameter | case key | estimate | standard error | on a bound "
+         "|\n|---|---|---|---|---|\n";
   for (std::size_t j = 0; j < comb.parameters.size(); ++j)
     out << fmt::format("| {} | `{}` | {:.6g} | {} | {} |\n", comb.parameters[j],
                        parameter_spec(comb.parameters[j]).case_key, f.estimate[j],
@@ -340,15 +347,13 @@ bool run_plot(const fs::path& dir, spdlog::logger& log) {
   if (!r.ok()) {
     core::record_plot_failure();
     log.warn("{} {} failed ({}); data in closures.h5", core::python_interpreter(), script.string(),
-             r.started() ? fmt::format("exit {}; python3-matplotlib and python3-h5py installed?",
-                                       r.status)
-                         : r.error);
+             r.started()
+                 ? fmt::format("exit {}; python3-matplotlib and python3-h5py installed?", r.status)
+                 : r.error);
     return false;
   }
   return true;
 }
-
-
 
 }  // namespace
 

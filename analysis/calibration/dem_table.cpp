@@ -15,9 +15,10 @@ namespace granflow::calibration {
 
 const std::vector<std::string>& table_quantities() {
   static const std::vector<std::string> names = {
-      "shear_rate",     "normal_stress",        "pressure",           "shear_stress",
-      "friction",       "solid_fraction",       "granular_temperature", "scaled_temperature",
-      "inertial_number", "particle_friction",   "viscosity"};
+      "shear_rate",           "normal_stress",      "pressure",
+      "shear_stress",         "friction",           "solid_fraction",
+      "granular_temperature", "scaled_temperature", "inertial_number",
+      "particle_friction",    "viscosity"};
   return names;
 }
 
@@ -153,13 +154,14 @@ DemTable read_dem_table(const TableSpec& spec) {
       if (header[i] == name) return static_cast<int>(i);
     return -1;
   };
-  for (const auto& [map, group] : {std::pair{&spec.columns, "columns"}, std::pair{&spec.errors, "errors"}})
+  for (const auto& [map, group] :
+       {std::pair{&spec.columns, "columns"}, std::pair{&spec.errors, "errors"}})
     for (const auto& [quantity, name] : *map)
       if (find(name) < 0)
-        throw TableError(header_line, fmt::format("data.{}.{}", group, quantity),
-                         fmt::format("column '{}' is not in the header of {}; expected one of: {}",
-                                     core::shorten(name), spec.file.filename().string(),
-                                     join(header)));
+        throw TableError(
+            header_line, fmt::format("data.{}.{}", group, quantity),
+            fmt::format("column '{}' is not in the header of {}; expected one of: {}",
+                        core::shorten(name), spec.file.filename().string(), join(header)));
   std::map<std::string, int> column, error;
   std::set<int> read;
   for (const auto& q : table_quantities()) {
@@ -178,8 +180,8 @@ DemTable read_dem_table(const TableSpec& spec) {
   // ---- protocol and units: the case's, the table's own, or inferred from the columns
   const std::string sigma_name = has("normal_stress") ? "normal_stress" : "pressure";
   const bool sigma_column = has("normal_stress") || has("pressure");
-  std::string protocol = agreed("protocol", spec.protocol, meta["protocol"],
-                                {"constant_pressure", "constant_volume"});
+  std::string protocol =
+      agreed("protocol", spec.protocol, meta["protocol"], {"constant_pressure", "constant_volume"});
   out.units = agreed("units", spec.units, meta["units"], {"si", "dimensionless"});
   if (out.units.empty()) out.units = "si", out.derived.push_back("units: si (not given)");
   const bool reduced = out.units == "dimensionless";
@@ -241,7 +243,7 @@ DemTable read_dem_table(const TableSpec& spec) {
     const auto& [line, fields] = rows[r];
     // A used column's value: a finite number within the quantity's range.
     const auto number = [&, line = line, &fields = fields](int c, const std::string& quantity,
-                                                            const char* range, auto accept) {
+                                                           const char* range, auto accept) {
       const std::string& f = fields[static_cast<std::size_t>(c)];
       const std::string& name = header[static_cast<std::size_t>(c)];
       const std::string column =
@@ -249,9 +251,9 @@ DemTable read_dem_table(const TableSpec& spec) {
       double v = NAN;
       const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
       if (ec != std::errc() || end != f.data() + f.size() || !std::isfinite(v))
-        throw TableError(line, "data.table",
-                         fmt::format("column {}: expected a finite number, got '{}'", column,
-                                     core::shorten(f)));
+        throw TableError(
+            line, "data.table",
+            fmt::format("column {}: expected a finite number, got '{}'", column, core::shorten(f)));
       if (!accept(v))
         throw TableError(line, "data.table",
                          fmt::format("column {}: expected {}, got {}", column, range, f));
@@ -296,17 +298,18 @@ DemTable read_dem_table(const TableSpec& spec) {
       sigma_rel_err = 2 * err("inertial_number") / I;
     }
     p.normal_stress = sigma;
-    p.inertial_number = has("inertial_number") ? v["inertial_number"]
-                                               : p.shear_rate * d / std::sqrt(sigma / rho);
-    p.particle_friction = has("particle_friction") ? v["particle_friction"] : spec.particle_friction;
+    p.inertial_number =
+        has("inertial_number") ? v["inertial_number"] : p.shear_rate * d / std::sqrt(sigma / rho);
+    p.particle_friction =
+        has("particle_friction") ? v["particle_friction"] : spec.particle_friction;
     if (!has("particle_friction") && !meta["particle_friction"].value.empty()) {
       const std::string& text = meta["particle_friction"].value;
       double mu_p = NAN;
       const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), mu_p);
       if (ec != std::errc() || end != text.data() + text.size() || !(mu_p >= 0))
-        throw TableError(meta["particle_friction"].line, "data.table",
-                         fmt::format("'# particle_friction: {}': expected a number >= 0",
-                                     core::shorten(text)));
+        throw TableError(
+            meta["particle_friction"].line, "data.table",
+            fmt::format("'# particle_friction: {}': expected a number >= 0", core::shorten(text)));
       p.particle_friction = mu_p;
     }
     if (has("viscosity")) p.liquid_viscosity = v["viscosity"];
@@ -317,7 +320,8 @@ DemTable read_dem_table(const TableSpec& spec) {
       const double tau = v["shear_stress"];
       p.value[0] = tau / sigma;
       const double tau_rel = tau != 0 ? err("shear_stress") / std::abs(tau) : 0.0;
-      p.error[0] = std::abs(p.value[0]) * std::sqrt(tau_rel * tau_rel + sigma_rel_err * sigma_rel_err);
+      p.error[0] =
+          std::abs(p.value[0]) * std::sqrt(tau_rel * tau_rel + sigma_rel_err * sigma_rel_err);
     } else {
       p.value[0] = NAN;
     }
@@ -351,15 +355,14 @@ DemTable read_dem_table(const TableSpec& spec) {
       if (!x.empty()) s += (s.empty() ? "" : " and ") + x;
     return s.empty() ? std::string("none") : s;
   };
-  out.errors = {
-      "friction: " + (has("friction") ? list({from("friction")})
-                                      : list({from("shear_stress"), from(sigma_name)})),
-      "solid_fraction: " + list({from("solid_fraction")}),
-      "scaled_temperature: " +
-          (error.count("scaled_temperature") ? list({from("scaled_temperature")})
-                                             : list({from("granular_temperature")})),
-      "scaled_pressure: " + (sigma_column ? list({from(sigma_name)})
-                                          : list({from("inertial_number")}))};
+  out.errors = {"friction: " + (has("friction") ? list({from("friction")})
+                                                : list({from("shear_stress"), from(sigma_name)})),
+                "solid_fraction: " + list({from("solid_fraction")}),
+                "scaled_temperature: " + (error.count("scaled_temperature")
+                                              ? list({from("scaled_temperature")})
+                                              : list({from("granular_temperature")})),
+                "scaled_pressure: " +
+                    (sigma_column ? list({from(sigma_name)}) : list({from("inertial_number")}))};
   return out;
 }
 

@@ -26,8 +26,8 @@ const std::vector<std::string>& table_quantities();
 
 struct TableSpec {
   std::filesystem::path file;
-  std::string protocol;  // the case's data.protocol ("" when not given)
-  std::string units;     // the case's data.units ("" when not given)
+  std::string protocol;                        // the case's data.protocol ("" when not given)
+  std::string units;                           // the case's data.units ("" when not given)
   std::map<std::string, std::string> columns;  // quantity -> header name (data.columns)
   std::map<std::string, std::string> errors;   // quantity -> header name of its standard error
   double particle_friction = NAN;              // data.particle_friction (NaN when not given)

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "continuum/model/correlation_length_jenkins.hpp"
+#include "continuum/model/correlation_length_toward_jamming.hpp"
 #include "continuum/model/force_chains/critical_state_lade_duncan.hpp"
 #include "continuum/model/force_chains/force_chain_model.hpp"
 
@@ -41,8 +42,8 @@ double solve_sqrt_temperature(double d, double f2, double f3, double lambda, dou
 // s solving d f2 γ̇² + W/s = f3 s³/(d max(s, a)) + λ s with W > 0: h(s) = right - left rises
 // strictly with s (each term of the right side rises, -W/s rises), h(0+) = -∞. Bracket from the
 // root without contact work (where h = -W/s < 0), then Newton kept inside the bracket.
-double solve_sqrt_temperature_with_work(double d, double f2, double f3, double lambda,
-                                        double speed, double shear_rate, double work) {
+double solve_sqrt_temperature_with_work(double d, double f2, double f3, double lambda, double speed,
+                                        double shear_rate, double work) {
   const double production = d * f2 * shear_rate * shear_rate;
   const auto h = [&](double s, double& slope) {
     const double L_term = s >= speed ? f3 * s * s / d : f3 * s * s * s / (d * speed);
@@ -90,9 +91,10 @@ std::string in_parallel_caveat(const continuum::MultiRegimeSettings& settings) {
   if (nu_line < nu_max) return "";
   return fmt::format(
       "the critical state line starts at φ = 1/(1+e_Γ) = {:.4f}, at or beyond the largest solid "
-      "fraction of the collisional closures ({:.4f}): the force chains never carry load and the "
-      "steady state is kinetic theory's; set force_chains.e_Gamma for this material (e.g. "
-      "include cases/rev/materials/dem_spheres_force_chains.yaml)",
+      "fraction of the collisional closures ({:.4f}): the force chains never carry a "
+      "rate-independent load (their friction still shears steady.inertial_contact's stress, if "
+      "set); if that is not meant, set force_chains.e_Gamma for this material (e.g. include "
+      "cases/rev/materials/dem_spheres_force_chains.yaml)",
       nu_line, nu_max);
 }
 
@@ -112,7 +114,7 @@ SkeletonShearState skeleton_simple_shear_state(
   const double e0 = model.critical_state().critical_void_ratio(p0);
   auto state = model.isotropic_state(p0, e0, 1.0);
   Tensor increment = Tensor::Zero();
-  constexpr double dgamma = 2e-3;  // shear strain per update
+  constexpr double dgamma = 2e-3;                     // shear strain per update
   increment(0, 1) = increment(1, 0) = -0.5 * dgamma;  // compression-positive ε_xy of u_x = γ̇ y
   SkeletonShearState out;
   double last_ratio = 0, last_pressure = 0;
@@ -146,14 +148,26 @@ double steady_sqrt_temperature_at(const continuum::MultiRegimeSettings& settings
              model::liquid_fluctuation_dissipation(settings.liquid_parameters, p.diameter,
                                                    solid_fraction, c.g0, 1.0) /
              p.particle_density;
-  const double speed = p.correlation_length == model::CorrelationLengthKind::jenkins
-                           ? model::jenkins_correlation_speed(p.correlation_length_constant, c.J,
-                                                              c.epsilon, p.diameter, shear_rate)
-                           : 0.0;
+  // Γ/ρ_p = f3 s³ / L: Jenkins' L = d max(s, a)/s enters through the speed a; a length
+  // independent of T (L = d ℓ(ν)) through f3/ℓ.
+  double speed = 0.0, f3_over_ratio = c.f3;
+  switch (p.correlation_length) {
+    case model::CorrelationLengthKind::jenkins:
+      speed = model::jenkins_correlation_speed(p.correlation_length_constant, c.J, c.epsilon,
+                                               p.diameter, shear_rate);
+      break;
+    case model::CorrelationLengthKind::toward_jamming:
+      f3_over_ratio = c.f3 / model::correlation_length_ratio_toward_jamming(
+                                 p.correlation_length_constant, p.correlation_length_onset,
+                                 p.correlation_length_exponent, p.jamming_fraction, solid_fraction);
+      break;
+    case model::CorrelationLengthKind::diameter:
+      break;
+  }
   if (contact_work > 0)
-    return solve_sqrt_temperature_with_work(p.diameter, c.f2, c.f3, lambda, speed, shear_rate,
-                                            contact_work);
-  return solve_sqrt_temperature(p.diameter, c.f2, c.f3, lambda, speed, shear_rate);
+    return solve_sqrt_temperature_with_work(p.diameter, c.f2, f3_over_ratio, lambda, speed,
+                                            shear_rate, contact_work);
+  return solve_sqrt_temperature(p.diameter, c.f2, f3_over_ratio, lambda, speed, shear_rate);
 }
 
 namespace {
@@ -220,12 +234,18 @@ struct InParallel {
     return steady_sqrt_temperature_at(settings, factors, nu, shear_rate,
                                       production_per_pressure * p_fc);
   }
-  // σ_yy,FC(ν) + p_COL(ν, s(ν)): the normal stress the state at ν carries
+  // σ_yy,IC(ν) = ρ_p (a_c d γ̇ / (ν_c - ν))² (ModelFactors::inertial_contact)
+  double inertial_contact(double nu) const {
+    if (factors.inertial_contact == 0) return 0.0;
+    const double scale = factors.inertial_contact * d * shear_rate / (nu_max - nu);
+    return rho_p * scale * scale;
+  }
+  // σ_yy,FC(ν) + σ_yy,IC(ν) + p_COL(ν, s(ν)): the normal stress the state at ν carries
   double pressure(double nu) const {
     const double p_fc = skeleton(nu);
     const double s = sqrt_T(nu, p_fc);
-    return p_fc + rho_p * model::collisional_coefficients(settings.collisional_parameters, nu).f1 *
-                      s * s;
+    return p_fc + inertial_contact(nu) +
+           rho_p * model::collisional_coefficients(settings.collisional_parameters, nu).f1 * s * s;
   }
   // The state at ν (its normal stress is pressure(ν)).
   SteadyShearState state(double nu) const {
@@ -235,10 +255,15 @@ struct InParallel {
     const double s = sqrt_T(nu, p_fc);
     const auto c = model::collisional_coefficients(p, nu);
     const double p_col = rho_p * c.f1 * s * s;
-    const double p_total = p_fc + p_col;
+    const double p_ic = inertial_contact(nu);
+    const double p_total = p_fc + p_ic + p_col;
     out.force_chain_normal_stress = p_fc;
     out.collisional_pressure = p_col;
-    out.force_chain_shear_stress = mu_fc * p_fc;
+    out.inertial_contact_normal_stress = p_ic;
+    // τ_IC = μ_FC σ_yy,IC; without force chains μ_FC is the critical state's M(θ=0)/√3
+    const double mu_contacts =
+        chains ? mu_fc : critical_state_friction(settings.force_chain_parameters);
+    out.force_chain_shear_stress = mu_fc * p_fc + mu_contacts * p_ic;
     out.collisional_shear_stress = rho_p * d * c.f2 * s * shear_rate;  // τ_COL = η_COL γ̇
     if (settings.liquid) {
       if (nu >= model::maximum_mixture_solid_fraction(settings.liquid_parameters)) {
@@ -303,8 +328,8 @@ SteadyShearState steady_simple_shear(const continuum::MultiRegimeSettings& setti
 }
 
 SteadyShearState steady_simple_shear_at_solid_fraction(
-    const continuum::MultiRegimeSettings& settings, const ModelFactors& factors,
-    double shear_rate, double solid_fraction) {
+    const continuum::MultiRegimeSettings& settings, const ModelFactors& factors, double shear_rate,
+    double solid_fraction) {
   SteadyShearState out;
   {
     const InParallel probe(settings, factors, shear_rate, 1.0);  // checks the settings

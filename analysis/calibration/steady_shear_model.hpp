@@ -68,6 +68,15 @@ struct ModelFactors {
   // e(J) = e_m + √J/φ_m): e_Γ -> e_Γ + a_J √J with J = η0 γ̇/p of the imposed condition. 0 = the
   // seed's critical state, which does not see the liquid.
   double viscous_dilatancy = 0.0;
+  // a_c: the contacts' normal stress of dense inertial flow of rigid grains
+  // (steady.inertial_contact; granflow's own term after the dense-flow law φ = φ_c - a I of
+  // GDR MiDi (2004) and da Cruz et al. (2005), which at constant volume reads
+  //   σ_yy,IC = ρ_p (a_c d γ̇ / (ν_c - ν))²,  τ_IC = μ_FC σ_yy,IC,
+  // ν_c the jamming fraction of g0). Enduring contacts of rigid grains carry a stress that scales
+  // as γ̇² like the collisions' but grows as (ν_c - ν)^-2, faster than kinetic theory's p_COL with
+  // the measured T (docs/calibration.md, "Constant-volume DEM ... dense branch"). 0 = the seed's
+  // model. It carries no temperature production of its own.
+  double inertial_contact = 0.0;
   // Stress state of the skeleton on its critical state in simple shear (steady.skeleton_stress):
   // false (`lode_zero`): σ_xx = σ_yy = σ_zz = p_FC, τ_FC/σ_yy = M(θ=0)/√3 (closed form, fast);
   // true (`force_chain_model`): the state the force-chain model itself reaches in simple shear
@@ -88,23 +97,24 @@ struct SkeletonShearState {
 SkeletonShearState skeleton_simple_shear_state(const model::force_chains::ForceChainParameters& p);
 
 struct SteadyShearState {
-  bool ok = false;                       // false: no steady state carries p (message in `why`)
-  const char* why = "";                  // static text
-  double solid_fraction = 0;             // ν
-  double granular_temperature = 0;       // T, m²/s²
-  double scaled_temperature = 0;         // T / (d γ̇)²
-  double shear_stress = 0;               // τ = τ_FC + τ_COL + τ_L, Pa
-  double normal_stress = 0;              // σ_yy = σ_yy,FC + p_COL, Pa (the imposed p at constant
-                                         // pressure, the predicted one at constant volume)
-  double scaled_pressure = 0;            // σ_yy / (ρ_p d² γ̇²)
-  double force_chain_normal_stress = 0;  // σ_yy,FC (= p_FC on the line with lode_zero), Pa
-  double collisional_pressure = 0;       // p_COL = ρ_p f1 T, Pa
-  double force_chain_shear_stress = 0;   // τ_FC = μ_FC p_FC, Pa
-  double collisional_shear_stress = 0;   // τ_COL = ρ_p d f2 T^½ γ̇, Pa
-  double liquid_shear_stress = 0;        // τ_L = η(ν) γ̇, Pa
-  double friction = 0;                   // μ = τ / p
-  double inertial_number = 0;            // I = γ̇ d / sqrt(p/ρ_p)
-  double viscous_number = 0;             // J = η0 γ̇ / p (0 when dry)
+  bool ok = false;                  // false: no steady state carries p (message in `why`)
+  const char* why = "";             // static text
+  double solid_fraction = 0;        // ν
+  double granular_temperature = 0;  // T, m²/s²
+  double scaled_temperature = 0;    // T / (d γ̇)²
+  double shear_stress = 0;          // τ = τ_FC + τ_COL + τ_L, Pa
+  double normal_stress = 0;    // σ_yy = σ_yy,FC + σ_yy,IC + p_COL, Pa (the imposed p at constant
+                               // pressure, the predicted one at constant volume)
+  double scaled_pressure = 0;  // σ_yy / (ρ_p d² γ̇²)
+  double force_chain_normal_stress = 0;       // σ_yy,FC (= p_FC on the line with lode_zero), Pa
+  double collisional_pressure = 0;            // p_COL = ρ_p f1 T, Pa
+  double inertial_contact_normal_stress = 0;  // σ_yy,IC = ρ_p (a_c d γ̇/(ν_c - ν))², Pa
+  double force_chain_shear_stress = 0;        // τ_FC + τ_IC = μ_FC (p_FC + σ_yy,IC), Pa
+  double collisional_shear_stress = 0;        // τ_COL = ρ_p d f2 T^½ γ̇, Pa
+  double liquid_shear_stress = 0;             // τ_L = η(ν) γ̇, Pa
+  double friction = 0;                        // μ = τ / p
+  double inertial_number = 0;                 // I = γ̇ d / sqrt(p/ρ_p)
+  double viscous_number = 0;                  // J = η0 γ̇ / p (0 when dry)
 };
 
 // Steady state at (γ̇, p). Requires settings.collisional (throws std::invalid_argument
@@ -126,8 +136,8 @@ SteadyShearState steady_simple_shear(const continuum::MultiRegimeSettings& setti
 // the dilute branch (below the minimum of p(ν)) has a state too, as a constant-volume DEM has.
 // ok = false for ν outside (0, ν_max) or, immersed, at or above the maximum packing of η(ν).
 SteadyShearState steady_simple_shear_at_solid_fraction(
-    const continuum::MultiRegimeSettings& settings, const ModelFactors& factors,
-    double shear_rate, double solid_fraction);
+    const continuum::MultiRegimeSettings& settings, const ModelFactors& factors, double shear_rate,
+    double solid_fraction);
 
 // s = T^½ solving the energy balance above at ν (exposed for tests), with an extra production
 // by the contacts W = α_FC τ_FC γ̇ / ρ_p (m³/s³ per unit density; 0 without it).

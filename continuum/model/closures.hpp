@@ -23,7 +23,7 @@ namespace granflow::model {
 // (-Wswitch, an error in CI, names a switch that misses it).
 #define GRANFLOW_RADIAL_DISTRIBUTIONS(X) X(carnahan_starling) X(torquato) X(chialvo_sundaresan)
 #define GRANFLOW_EFFECTIVE_RESTITUTIONS(X) X(restitution) X(chialvo_sundaresan)
-#define GRANFLOW_CORRELATION_LENGTHS(X) X(diameter) X(jenkins)
+#define GRANFLOW_CORRELATION_LENGTHS(X) X(diameter) X(jenkins) X(toward_jamming)
 #define GRANFLOW_MIXTURE_VISCOSITIES(X) X(einstein) X(krieger_dougherty) X(boyer)
 #define GRANFLOW_PERMEABILITIES(X) X(seed_eq26) X(kozeny_carman) X(ergun)
 
@@ -106,7 +106,9 @@ struct CollisionalParameters {
   RadialDistributionKind radial_distribution = RadialDistributionKind::chialvo_sundaresan;
   EffectiveRestitutionKind effective_restitution = EffectiveRestitutionKind::chialvo_sundaresan;
   CorrelationLengthKind correlation_length = CorrelationLengthKind::diameter;
-  double correlation_length_constant = 0.5;  // c of the Jenkins correlation length
+  double correlation_length_constant = 0.5;  // c of the Jenkins length, c_L of toward_jamming
+  double correlation_length_onset = 0.49;    // ν_L of toward_jamming (L = d below it)
+  double correlation_length_exponent = 1.5;  // n of toward_jamming: L/d ∝ (ν_c - ν)^-n
 };
 
 struct LiquidParameters {
@@ -144,7 +146,8 @@ CollisionalCoefficients collisional_coefficients(const CollisionalParameters& p,
 double effective_restitution(const CollisionalParameters& p);  // ε
 // g0(ν) of the chosen option, no range check (collisional_coefficients() checks).
 double radial_distribution(const CollisionalParameters& p, double nu);
-// L, m (≥ d). Jenkins' L is unbounded at T = 0 or ε = 1 with γ̇ ≠ 0: +infinity there (Γ = 0).
+// L, m (≥ d). Jenkins' L is unbounded at T = 0 or ε = 1 with γ̇ ≠ 0: +infinity there (Γ = 0);
+// toward_jamming's depends on ν only (c.nu).
 double correlation_length(const CollisionalParameters& p, const CollisionalCoefficients& c,
                           double shear_rate, double T);  // L, m (≥ d)
 double collisional_pressure(const CollisionalParameters& p, const CollisionalCoefficients& c,
@@ -156,7 +159,8 @@ double collisional_dissipation(const CollisionalParameters& p, const Collisional
 double collisional_conductivity(const CollisionalParameters& p, const CollisionalCoefficients& c,
                                 double T);  // ρ_p d f4 T^½, kg/(m s)
 // Γ with L = correlation_length(p, c, shear_rate, T) folded in, written so that it stays finite
-// (and exact) at T = 0: Γ = ρ_p f3 T² / (d max(T^½, a)), a = c_L [2J/(15(1-ε²))]^½ d |γ̇|.
+// (and exact) at T = 0: Γ = ρ_p f3 T² / (d ℓ max(T^½, a)), a = c [2J/(15(1-ε²))]^½ d |γ̇| for
+// jenkins (else 0), ℓ = L/d of toward_jamming (else 1).
 double collisional_dissipation_at_shear_rate(const CollisionalParameters& p,
                                              const CollisionalCoefficients& c, double shear_rate,
                                              double T);  // Γ, W/m³

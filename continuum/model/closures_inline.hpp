@@ -8,6 +8,7 @@
 
 #include "continuum/model/closures.hpp"
 #include "continuum/model/correlation_length_jenkins.hpp"
+#include "continuum/model/correlation_length_toward_jamming.hpp"
 #include "continuum/model/dissipation_resistance.hpp"
 #include "continuum/model/effective_restitution.hpp"
 #include "continuum/model/g0_carnahan_starling.hpp"
@@ -82,6 +83,10 @@ inline double correlation_length(const CollisionalParameters& p, const Collision
     case CorrelationLengthKind::jenkins:
       return correlation_length_jenkins(p.correlation_length_constant, c.J, c.epsilon, p.diameter,
                                         shear_rate, T);
+    case CorrelationLengthKind::toward_jamming:
+      return p.diameter * correlation_length_ratio_toward_jamming(
+                              p.correlation_length_constant, p.correlation_length_onset,
+                              p.correlation_length_exponent, p.jamming_fraction, c.nu);
     case CorrelationLengthKind::diameter:
       break;
   }
@@ -111,14 +116,24 @@ inline double collisional_dissipation_at_shear_rate(const CollisionalParameters&
                                                     const CollisionalCoefficients& c,
                                                     double shear_rate, double T) {
   const double sqrt_T = std::sqrt(T);
-  double speed = 0.0;  // a of correlation_length_jenkins.hpp; 0 for L = d
-  if (p.correlation_length == CorrelationLengthKind::jenkins) {
-    speed = jenkins_correlation_speed(p.correlation_length_constant, c.J, c.epsilon, p.diameter,
-                                      shear_rate);
+  double speed = 0.0;  // a of correlation_length_jenkins.hpp; 0 for L independent of T
+  double ratio = 1.0;  // L/d of a length independent of T
+  switch (p.correlation_length) {
+    case CorrelationLengthKind::jenkins:
+      speed = jenkins_correlation_speed(p.correlation_length_constant, c.J, c.epsilon, p.diameter,
+                                        shear_rate);
+      break;
+    case CorrelationLengthKind::toward_jamming:
+      ratio = correlation_length_ratio_toward_jamming(
+          p.correlation_length_constant, p.correlation_length_onset, p.correlation_length_exponent,
+          p.jamming_fraction, c.nu);
+      break;
+    case CorrelationLengthKind::diameter:
+      break;
   }
   const double scale = std::max(sqrt_T, speed);
   if (scale == 0.0) return 0.0;  // T = 0 and γ̇ = 0 (or L = d and T = 0)
-  return p.particle_density * c.f3 * T * T / (p.diameter * scale);
+  return p.particle_density * c.f3 * T * T / (p.diameter * ratio * scale);
 }
 
 // k_COL = ρ_p d f4 T^{1/2}.

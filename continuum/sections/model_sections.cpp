@@ -7,7 +7,8 @@ namespace granflow::continuum {
 core::Field material_section() {
   core::Field m("material", core::ValueType::section, "", "grain properties (shared with the DEM)");
   m.number("diameter", "m", "mean grain diameter d").required().greater_than(0);
-  // From 1 kg/m^3, lighter than any granular solid: far below it stresses and time scales underflow.
+  // From 1 kg/m^3, lighter than any granular solid: far below it stresses and time scales
+  // underflow.
   m.number("particle_density", "kg/m^3", "grain density ρ_p").required().at_least(1);
   m.number("restitution", "", "normal coefficient of restitution e_r")
       .required()
@@ -40,11 +41,22 @@ core::Field collisional_section() {
            "ε in Γ: the plain restitution or the Chialvo-Sundaresan frictional correction")
       .default_value("chialvo_sundaresan");
   c.choice("correlation_length", model::correlation_length_names(),
-           "L in Γ: the diameter (standard kinetic theory) or Jenkins' extended length")
+           "L in Γ: the diameter (standard kinetic theory), Jenkins' extended length, or a "
+           "length growing toward jamming, L/d = 1 + c (ν-ν_L)/(ν_c-ν)^n (docs/model/closures.md)")
       .default_value("diameter");
-  c.number("correlation_length_constant", "", "c of Jenkins' correlation length")
+  c.number("correlation_length_constant", "",
+           "c of Jenkins' correlation length, or c_L of toward_jamming")
       .default_value("0.5")
       .greater_than(0);
+  c.number("correlation_length_onset", "",
+           "ν_L of toward_jamming: L = d at ν ≤ ν_L (0.49, the freezing fraction of hard spheres)")
+      .default_value("0.49")
+      .greater_than(0)
+      .less_than(0.74);
+  c.number("correlation_length_exponent", "", "n of toward_jamming: L/d grows as (ν_c - ν)^-n")
+      .default_value("1.5")
+      .greater_than(0)
+      .at_most(4);
   return c;
 }
 
@@ -185,6 +197,12 @@ core::Field steady_section() {
            "critical state)")
       .default_value("0")
       .at_least(0);
+  s.number("inertial_contact", "",
+           "a_c: the contacts' normal stress of dense inertial flow of rigid grains, "
+           "ρ_p (a_c d γ̇/(ν_c - ν))², sheared at μ_FC (granflow's own term after φ = φ_c - a I of "
+           "GDR MiDi 2004 and da Cruz et al. 2005; 0 = the seed's model)")
+      .default_value("0")
+      .at_least(0);
   s.number("friction_rise_I0", "", "I_0 of the force chains' friction rise")
       .default_value("0.3")
       .greater_than(0);
@@ -261,6 +279,8 @@ MultiRegimeSettings read_multi_regime_settings(const core::Case& c) {
   col.correlation_length =
       model::parse_correlation_length(c.string("collisional.correlation_length"));
   col.correlation_length_constant = c.number("collisional.correlation_length_constant");
+  col.correlation_length_onset = c.number("collisional.correlation_length_onset");
+  col.correlation_length_exponent = c.number("collisional.correlation_length_exponent");
 
   auto& liq = s.liquid_parameters;
   s.liquid = c.boolean("liquid.enabled");

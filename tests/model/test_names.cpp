@@ -54,7 +54,7 @@ TEST(ClosuresNames, EnumCountsMatchNameLists) {
   EXPECT_EQ(gm::parse_effective_restitution(gm::effective_restitution_names().back()),
             gm::EffectiveRestitutionKind::chialvo_sundaresan);
   EXPECT_EQ(gm::parse_correlation_length(gm::correlation_length_names().back()),
-            gm::CorrelationLengthKind::jenkins);
+            gm::CorrelationLengthKind::toward_jamming);
   EXPECT_EQ(gm::parse_mixture_viscosity(gm::mixture_viscosity_names().back()),
             gm::MixtureViscosityKind::boyer);
   EXPECT_EQ(gm::parse_permeability(gm::permeability_names().back()), gm::PermeabilityKind::ergun);
