@@ -249,8 +249,11 @@ void write_report(const Study& t, const fs::path& file, bool plotted) {
 }
 
 // The DEM points and the smooth predictions of the best three distinct combinations (a row with
-// `same_as_rank` repeats a curve already drawn) over I at the mean DEM σ_yy (γ̇ = I √(σ_yy/ρ_p)/d),
-// for plot_closures.py.
+// `same_as_rank` repeats a curve already drawn), for plot_closures.py: at constant pressure over I
+// at the mean DEM σ_yy (γ̇ = I √(σ_yy/ρ_p)/d); when every used row is at constant volume, over the
+// imposed φ at the mean DEM γ̇ (the model then predicts σ_yy). Attribute /curves protocol says
+// which ("constant_pressure" or "constant_volume"), and the grid is /curves/inertial_number or
+// /curves/solid_fraction.
 void write_curves(const Study& o, const fs::path& file) {
   const auto& s = o.study;
   const auto& used = o.data.used;
@@ -279,18 +282,36 @@ void write_curves(const Study& o, const fs::path& file) {
     h5.write("/data/" + n + "_err", column([&](const DataPoint& p) { return p.error[k]; }), "1",
              "DEM standard error of " + n);
   }
-  double lo = INFINITY, hi = 0, p_mean = 0;
+  const bool constant_volume =
+      !used.empty() && std::all_of(used.begin(), used.end(), [](const DataPoint& p) {
+        return p.protocol == Protocol::constant_volume;
+      });
+  const auto phi = [](const DataPoint& p) {
+    return p.value[static_cast<int>(Observable::solid_fraction)];
+  };
+  double lo = INFINITY, hi = 0, p_mean = 0, rate_mean = 0;
   for (const auto& p : used) {
-    lo = std::min(lo, inertial(p));
-    hi = std::max(hi, inertial(p));
+    lo = std::min(lo, constant_volume ? phi(p) : inertial(p));
+    hi = std::max(hi, constant_volume ? phi(p) : inertial(p));
     p_mean += p.normal_stress / static_cast<double>(used.size());
+    rate_mean += p.shear_rate / static_cast<double>(used.size());
   }
   const int n_grid = 80;
   std::vector<double> grid;
   for (int g = 0; g < n_grid; ++g)
-    grid.push_back(lo / 1.5 * std::pow(hi * 1.5 / (lo / 1.5), g / double(n_grid - 1)));
-  h5.write("/curves/inertial_number", grid, "1", "I of the curves");
-  h5.attribute("/curves", "normal_stress", p_mean);
+    grid.push_back(constant_volume
+                       ? lo + (hi - lo) * g / double(n_grid - 1)  // the swept φ, linear
+                       : lo / 1.5 * std::pow(hi * 1.5 / (lo / 1.5), g / double(n_grid - 1)));
+  if (constant_volume) {
+    h5.write("/data/solid_fraction_imposed", column(phi), "1", "DEM φ (imposed)");
+    h5.write("/curves/solid_fraction", grid, "1", "φ of the curves");
+    h5.attribute("/curves", "protocol", std::string("constant_volume"));
+    h5.attribute("/curves", "shear_rate", rate_mean);
+  } else {
+    h5.write("/curves/inertial_number", grid, "1", "I of the curves");
+    h5.attribute("/curves", "protocol", std::string("constant_pressure"));
+    h5.attribute("/curves", "normal_stress", p_mean);
+  }
   int written = 0;
   const auto& same = o.column("same_as_rank").values;
   for (std::size_t r = 0; r < o.order.size() && written < 3; ++r) {
@@ -305,10 +326,17 @@ void write_curves(const Study& o, const fs::path& file) {
         Eigen::Map<const Eigen::VectorXd>(f.estimate.data(), Eigen::Index(f.estimate.size()));
     const CalibratedModel m = apply(start_model(*comb.run_case), comb.parameters, estimate);
     std::vector<std::vector<double>> curves(observable_count);
-    for (const double I : grid) {
+    for (const double x : grid) {
       DataPoint point;
-      point.shear_rate = I * std::sqrt(p_mean / rho) / d;
-      point.normal_stress = p_mean;
+      if (constant_volume) {
+        point.protocol = Protocol::constant_volume;
+        point.shear_rate = rate_mean;
+        point.normal_stress = NAN;
+        point.value[static_cast<int>(Observable::solid_fraction)] = x;
+      } else {
+        point.shear_rate = x * std::sqrt(p_mean / rho) / d;
+        point.normal_stress = p_mean;
+      }
       point.particle_friction = comb.run_case->has("data.particle_friction")
                                     ? comb.run_case->number("data.particle_friction")
                                     : NAN;

@@ -3,6 +3,7 @@
 // first by AIC with χ²_red ≈ 1, the parameters that do not act are reported as not fitted, the
 // CSV has one row per combination, bad closures are located errors (exit 2), --force replaces
 // only marked study directories, and the shipped option set runs in under 60 s.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,9 +15,8 @@
 #include <sstream>
 #include <utility>
 
-#include <fmt/format.h>
-
 #include "analysis/calibration/closure_study.hpp"
+#include "core/result_file.hpp"
 #include "core/run.hpp"
 #include "tests/calibration/synthetic_data.hpp"
 
@@ -44,9 +44,12 @@ std::vector<std::map<std::string, std::string>> read_csv(const fs::path& file) {
     std::string cell;
     bool quoted = false;
     for (char ch : line) {
-      if (ch == '"') quoted = !quoted;
-      else if (ch == ',' && !quoted) cells.push_back(std::exchange(cell, ""));
-      else cell += ch;
+      if (ch == '"')
+        quoted = !quoted;
+      else if (ch == ',' && !quoted)
+        cells.push_back(std::exchange(cell, ""));
+      else
+        cell += ch;
     }
     cells.push_back(cell);
     if (header.empty()) {
@@ -69,7 +72,7 @@ std::string slurp(const fs::path& file) {
 }
 
 TEST(ClosureStudy, InformationCriteria) {
-  EXPECT_DOUBLE_EQ(akaike(10.0, 3), 16.0);                      // χ² + 2k
+  EXPECT_DOUBLE_EQ(akaike(10.0, 3), 16.0);                              // χ² + 2k
   EXPECT_DOUBLE_EQ(akaike_corrected(10.0, 3, 18), 16.0 + 24.0 / 14.0);  // + 2k(k+1)/(n-k-1)
   EXPECT_TRUE(std::isnan(akaike_corrected(1.0, 3, 4)));
 }
@@ -112,9 +115,10 @@ TEST(ClosureStudy, ShippedCaseRunsWithinTheCostTarget) {
   command.quiet = true;
   const auto t0 = std::chrono::steady_clock::now();
   ASSERT_EQ(run_closure_study_command(command, 0), core::exit_ok);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::cout << fmt::format("[ closures ] shipped option set, 24 combinations, 12 points: {:.2f} s\n",
-                           seconds);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::cout << fmt::format(
+      "[ closures ] shipped option set, 24 combinations, 12 points: {:.2f} s\n", seconds);
   EXPECT_LT(seconds, 60.0);
   EXPECT_EQ(read_csv(dir / "closures.csv").size(), 24u);
 }
@@ -142,7 +146,8 @@ TEST(ClosureStudy, KineticTheoryOptionSetRanksTheTrueCombinationFirst) {
   EXPECT_EQ(best.at("fit.inside_domain"), "1");
   EXPECT_EQ(best.at("fit.identifiable"), "1");
   EXPECT_EQ(best.at("same_as_rank"), "");
-  EXPECT_NEAR(std::stod(best.at("fit.restitution")), 0.8, 3 * std::stod(best.at("fit.restitution_err")));
+  EXPECT_NEAR(std::stod(best.at("fit.restitution")), 0.8,
+              3 * std::stod(best.at("fit.restitution_err")));
   // Ranked by AIC: non-decreasing down the table, and AIC = χ² + 2k in every row.
   // Every other combination has a larger AIC, except the truth's twin with Jenkins' length: with
   // c = 0.5 the correlation speed stays below T^½ at these conditions, so L = d exactly (the
@@ -168,7 +173,8 @@ TEST(ClosureStudy, KineticTheoryOptionSetRanksTheTrueCombinationFirst) {
     EXPECT_NEAR(aic, std::stod(row.at("chi2")) + 2 * std::stod(row.at("k")), 1e-6 * aic);
     // The critical-state parameters act only with the force chains on.
     if (row.at("force_chains.enabled") == "false") {
-      EXPECT_EQ(row.at("dropped"), "critical_void_ratio;critical_stress_ratio;critical_state_slope");
+      EXPECT_EQ(row.at("dropped"),
+                "critical_void_ratio;critical_stress_ratio;critical_state_slope");
       EXPECT_TRUE(row.at("fit.critical_void_ratio").empty());
     } else {
       EXPECT_EQ(row.at("dropped"), "");
@@ -305,6 +311,43 @@ TEST(ClosureStudy, DropsParametersThatDoNotAct) {
   EXPECT_TRUE(study.combinations[1].dropped.empty());
   EXPECT_EQ(study.combinations[0].run_case->string("fit.parameters"),
             "restitution jamming_fraction");
+}
+
+// On constant-volume data (the shipped synthetic table of cases/calibrate/from_table.yaml) the
+// curves run over the imposed φ at the data's γ̇, the model predicting σ_yy: the grid spans the
+// table's φ, and the best curve meets its own fit's prediction at the table's end points.
+TEST(ClosureStudy, ConstantVolumeCurvesRunOverTheImposedSolidFraction) {
+  fs::create_directories(work);
+  const auto file = work / "closure_study_cv.yaml";
+  std::string text = slurp(fs::path(GRANFLOW_SOURCE_DIR) / "cases/calibrate/from_table.yaml");
+  const std::string table =
+      (fs::path(GRANFLOW_SOURCE_DIR) / "cases/calibrate/from_table_cv.csv").string();
+  text.replace(text.find("from_table_cv.csv"), std::string("from_table_cv.csv").size(), table);
+  text += "closures:\n  collisional.correlation_length: [diameter, toward_jamming]\n";
+  std::ofstream(file) << text;
+  const auto dir = work / "study_cv";
+  fs::remove_all(dir);
+  ClosureStudyCommand command;
+  command.case_file = file;
+  command.out_dir = dir;
+  command.quiet = true;
+  ASSERT_EQ(run_closure_study_command(command, 0), core::exit_ok);
+  const auto h5 = dir / "closures.h5";
+  EXPECT_EQ(core::read_string_attribute(h5, "/curves", "protocol"), "constant_volume");
+  EXPECT_DOUBLE_EQ(core::read_number_attribute(h5, "/curves", "shear_rate"), 1.0);
+  const auto grid = core::read_dataset(h5, "/curves/solid_fraction");
+  const auto phi = core::read_dataset(h5, "/data/solid_fraction_imposed");
+  ASSERT_EQ(grid.size(), 80u);
+  EXPECT_DOUBLE_EQ(grid.front(), *std::min_element(phi.begin(), phi.end()));
+  EXPECT_DOUBLE_EQ(grid.back(), *std::max_element(phi.begin(), phi.end()));
+  // The model predicts σ_yy along the curve: finite and rising toward jamming.
+  const auto pressure = core::read_dataset(h5, "/curves/1/scaled_pressure");
+  ASSERT_EQ(pressure.size(), grid.size());
+  for (std::size_t i = 1; i < pressure.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(pressure[i])) << i;
+    EXPECT_GT(pressure[i], pressure[i - 1]) << i;
+  }
+  EXPECT_TRUE(fs::exists(dir / "closures.png"));
 }
 
 }  // namespace
