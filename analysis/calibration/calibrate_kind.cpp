@@ -107,14 +107,15 @@ core::Schema calibrate_schema() {
               "particle_friction column; absent: all rows, each predicted with its own μ_p")
       .at_least(0);
   auto& fit = s.section("fit", "the least-squares problem");
-  fit.string(
-         "parameters",
-         "parameters to fit, separated by spaces: restitution, jamming_fraction, "
-         "correlation_length_constant, correlation_length_onset, correlation_length_exponent, "
-         "liquid_viscosity_factor, "
-         "fluctuation_dissipation_factor; with force_chains on also critical_void_ratio, "
-         "critical_state_slope, critical_state_exponent, critical_stress_ratio, "
-         "contact_production, friction_rise, friction_rise_I0, viscous_dilatancy, inertial_contact")
+  fit.string("parameters",
+             "parameters to fit, separated by spaces: restitution, jamming_fraction, "
+             "correlation_length_constant, correlation_length_onset, correlation_length_exponent, "
+             "liquid_viscosity_factor, "
+             "fluctuation_dissipation_factor; with force_chains on also critical_void_ratio, "
+             "critical_state_slope, critical_state_exponent, critical_stress_ratio, "
+             "contact_production, friction_rise, friction_rise_I0, viscous_dilatancy, "
+             "inertial_contact, "
+             "inertial_contact_power")
       .required();
   fit.integer("max_evaluations", "largest number of residual evaluations of Levenberg-Marquardt")
       .default_value("4000")

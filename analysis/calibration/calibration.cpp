@@ -50,7 +50,9 @@ const std::vector<ParameterSpec>& parameter_specs() {
       {"friction_rise_I0", "steady.friction_rise_I0", 1e-3, 10.0,
        "I_0 of the force chains' friction rise"},
       {"inertial_contact", "steady.inertial_contact", 0.0, 10.0,
-       "a_c of the contacts' dense inertial stress ρ_p (a_c d γ̇/(ν_c - ν))² (granflow's own)"},
+       "a_c of the contacts' dense inertial stress ρ_p (a_c d γ̇)² (ν_c - ν)^-m (granflow's own)"},
+      {"inertial_contact_power", "steady.inertial_contact_power", 0.5, 4.0,
+       "m of the contacts' dense inertial stress ∝ (ν_c - ν)^-m (2: φ = φ_c - a I)"},
       {"viscous_dilatancy", "steady.viscous_dilatancy", 0.0, 10.0,
        "a_J of e_Γ + a_J √J (granflow's own, immersed; start it above 0)"},
   };
@@ -85,6 +87,7 @@ double parameter_value(const CalibratedModel& m, const std::string& name) {
   if (name == "friction_rise_I0") return m.factors.friction_rise_I0;
   if (name == "viscous_dilatancy") return m.factors.viscous_dilatancy;
   if (name == "inertial_contact") return m.factors.inertial_contact;
+  if (name == "inertial_contact_power") return m.factors.inertial_contact_power;
   return parameter_spec(name).lower;  // throws for unknown names
 }
 
@@ -122,6 +125,8 @@ void set_parameter(CalibratedModel& m, const std::string& name, double value) {
     m.factors.viscous_dilatancy = value;
   else if (name == "inertial_contact")
     m.factors.inertial_contact = value;
+  else if (name == "inertial_contact_power")
+    m.factors.inertial_contact_power = value;
   else
     parameter_spec(name);  // throws
 }

@@ -234,11 +234,11 @@ struct InParallel {
     return steady_sqrt_temperature_at(settings, factors, nu, shear_rate,
                                       production_per_pressure * p_fc);
   }
-  // σ_yy,IC(ν) = ρ_p (a_c d γ̇ / (ν_c - ν))² (ModelFactors::inertial_contact)
+  // σ_yy,IC(ν) = ρ_p (a_c d γ̇)² (ν_c - ν)^-m (ModelFactors::inertial_contact)
   double inertial_contact(double nu) const {
     if (factors.inertial_contact == 0) return 0.0;
-    const double scale = factors.inertial_contact * d * shear_rate / (nu_max - nu);
-    return rho_p * scale * scale;
+    const double scale = factors.inertial_contact * d * shear_rate;
+    return rho_p * scale * scale * std::pow(nu_max - nu, -factors.inertial_contact_power);
   }
   // σ_yy,FC(ν) + σ_yy,IC(ν) + p_COL(ν, s(ν)): the normal stress the state at ν carries
   double pressure(double nu) const {

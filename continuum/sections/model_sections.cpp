@@ -197,12 +197,17 @@ core::Field steady_section() {
            "critical state)")
       .default_value("0")
       .at_least(0);
-  s.number("inertial_contact", "",
-           "a_c: the contacts' normal stress of dense inertial flow of rigid grains, "
-           "ρ_p (a_c d γ̇/(ν_c - ν))², sheared at μ_FC (granflow's own term after φ = φ_c - a I of "
-           "GDR MiDi 2004 and da Cruz et al. 2005; 0 = the seed's model)")
+  s.number(
+       "inertial_contact", "",
+       "a_c: the contacts' normal stress of dense inertial flow of rigid grains, "
+       "ρ_p (a_c d γ̇)² (ν_c - ν)^-m, sheared at μ_FC (granflow's own term after φ = φ_c - a I of "
+       "GDR MiDi 2004 and da Cruz et al. 2005; 0 = the seed's model)")
       .default_value("0")
       .at_least(0);
+  s.number("inertial_contact_power", "",
+           "m: the contacts' dense inertial stress grows as (ν_c - ν)^-m (2: φ = φ_c - a I)")
+      .default_value("2")
+      .greater_than(0);
   s.number("friction_rise_I0", "", "I_0 of the force chains' friction rise")
       .default_value("0.3")
       .greater_than(0);

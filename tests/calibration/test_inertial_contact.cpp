@@ -1,5 +1,6 @@
 // The contacts' dense inertial stress of the steady in-parallel model (steady.inertial_contact,
-// ModelFactors::inertial_contact): σ_yy,IC = ρ_p (a_c d γ̇/(ν_c - ν))², sheared at μ_FC. Checked
+// ModelFactors::inertial_contact, _power m): σ_yy,IC = ρ_p (a_c d γ̇)² (ν_c - ν)^-m, sheared at
+// μ_FC. Checked
 // against its closed form at constant volume (it adds to the normal and shear stress and leaves
 // T alone), and the constant-volume state against the constant-pressure state at the pressure it
 // finds (two solvers: bisection in ν at given p, and the explicit state at given ν).
@@ -28,22 +29,25 @@ continuum::MultiRegimeSettings spheres(bool chains) {
 
 TEST(InertialContact, ConstantVolumeClosedForm) {
   const auto s = spheres(false);
-  ModelFactors with;
-  with.inertial_contact = 0.12;
   const double rate = 20, rho = 2500, d = 1e-3, nu_c = 0.5915;
   const double mu_cs = critical_state_friction(s.force_chain_parameters);
-  for (const double phi : {0.50, 0.56, 0.585}) {
-    const auto bare = steady_simple_shear_at_solid_fraction(s, {}, rate, phi);
-    const auto st = steady_simple_shear_at_solid_fraction(s, with, rate, phi);
-    ASSERT_TRUE(bare.ok && st.ok) << st.why;
-    const double p_ic = rho * std::pow(0.12 * d * rate / (nu_c - phi), 2);
-    // Same closed expressions on both sides: rounding only.
-    EXPECT_NEAR(st.inertial_contact_normal_stress / p_ic, 1.0, 1e-14) << phi;
-    EXPECT_NEAR(st.normal_stress / (bare.normal_stress + p_ic), 1.0, 1e-14) << phi;
-    EXPECT_NEAR(st.shear_stress / (bare.shear_stress + mu_cs * p_ic), 1.0, 1e-14) << phi;
-    EXPECT_EQ(st.granular_temperature, bare.granular_temperature) << phi;  // no production
-  }
+  for (const double m : {2.0, 3.3})
+    for (const double phi : {0.50, 0.56, 0.585}) {
+      ModelFactors with;
+      with.inertial_contact = 0.12, with.inertial_contact_power = m;
+      const auto bare = steady_simple_shear_at_solid_fraction(s, {}, rate, phi);
+      const auto st = steady_simple_shear_at_solid_fraction(s, with, rate, phi);
+      ASSERT_TRUE(bare.ok && st.ok) << st.why;
+      const double p_ic = rho * std::pow(0.12 * d * rate, 2) * std::pow(nu_c - phi, -m);
+      // Same closed expressions on both sides: rounding only.
+      EXPECT_NEAR(st.inertial_contact_normal_stress / p_ic, 1.0, 1e-14) << phi;
+      EXPECT_NEAR(st.normal_stress / (bare.normal_stress + p_ic), 1.0, 1e-14) << phi;
+      EXPECT_NEAR(st.shear_stress / (bare.shear_stress + mu_cs * p_ic), 1.0, 1e-14) << phi;
+      EXPECT_EQ(st.granular_temperature, bare.granular_temperature) << phi;  // no production
+    }
   // It scales as γ̇² like the collisions': the scaled pressure does not depend on the rate.
+  ModelFactors with;
+  with.inertial_contact = 0.12;
   const auto slow = steady_simple_shear_at_solid_fraction(s, with, 2.0, 0.56);
   const auto fast = steady_simple_shear_at_solid_fraction(s, with, 20.0, 0.56);
   EXPECT_NEAR(slow.scaled_pressure / fast.scaled_pressure, 1.0, 1e-12);
