@@ -104,7 +104,8 @@ namespace {
 // Solid points [b, e): dV/V = tr(D) dt (plane strain); grains incompressible: n = 1 - V_s / V;
 // with dx (non-null) also x += Δx of the step. Returns the last point holding a non-finite
 // value or a non-positive volume, -1 if none. The arrays do not overlap (__restrict); the motion
-// is a separate loop, which vectorises (GCC 12 does not vectorise the check's reduction).
+// is a separate loop, which vectorises (GCC 12 vectorises the first loop, with its reduction of
+// the check, only for AVX-512: -DGRANFLOW_NATIVE=ON here).
 long solid_volume_pass(std::size_t b, std::size_t e, double dt, const double* __restrict Lxx,
                        const double* __restrict Lyy, const double* __restrict solid_volume,
                        double* __restrict volume, double* __restrict porosity,
