@@ -95,6 +95,14 @@ void Solver::initialize() {
     c.dNdx.assign(m, 0.0);
     c.dNdy.assign(m, 0.0);
     c.valid = false;
+    CellCache& q = cells_[phase];
+    const auto* cartesian = std::get_if<CartesianGrid>(&grid_);
+    const std::size_t cells = cartesian && options_.shape == ShapeKind::linear ? n : 0;
+    q.node.assign(cells, -1);
+    q.xi.assign(cells, 0.0);
+    q.eta.assign(cells, 0.0);
+    q.inv_hx = cartesian ? 1.0 / cartesian->hx() : 0.0;
+    q.inv_hy = cartesian ? 1.0 / cartesian->hy() : 0.0;
   }
   for (auto* v : {&nodes_.mass_solid, &nodes_.mass_liquid, &nodes_.vx_solid, &nodes_.vy_solid,
                   &nodes_.vx_liquid, &nodes_.vy_liquid}) {

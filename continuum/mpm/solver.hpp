@@ -197,6 +197,14 @@ class Solver {
   // grid (an atan2 and a Newton solve per location) located once per step, then cached.
   template <class G, ShapeKind S>
   bool locate(const G& grid, int phase, std::size_t p, Stencil& st);
+  // Cartesian grid, linear shapes (solver_quad.cpp): the same three pieces on fixed 2 x 2
+  // stencils held as two rows of two adjacent nodes, each row one packed vector; the points of
+  // the thread's chunk are located once per step (locate_cells) and kept in cells_.
+  void map_first_quad(const CartesianGrid& grid, int t);
+  void update_points_quad(const CartesianGrid& grid, int t, bool remap);
+  void velocity_gradients_quad(const CartesianGrid& grid, int t, bool liquid_extras);
+  // Locate points [b, e) of a phase into cells_ in one vectorised pass (outside: node -1).
+  void locate_cells(const CartesianGrid& grid, int phase, std::size_t b, std::size_t e);
   void solve_porosity_only();
   void refresh_liquid_state();
   template <class G>
@@ -242,6 +250,13 @@ class Solver {
   // (Sulsky, Zhou & Schreyer 1995; Nairn 2003): the point displacements of the step are kept
   // here and applied at its end. On the polar grid the stencils are also cached for the step.
   std::vector<double> displacement_x_[2], displacement_y_[2];
+  // Cartesian grid, linear shapes: the cell of each point (node index of its lower-left corner,
+  // -1 outside the grid) and its local coordinates ξ, η in [0, 1], for the step's grid part.
+  struct CellCache {
+    std::vector<int> node;
+    std::vector<double> xi, eta;
+    double inv_hx = 0, inv_hy = 0;
+  } cells_[2];
   struct StencilCache {
     int stride = 4;          // entries per point
     std::vector<int> count;  // 0: the point is outside the grid

@@ -38,6 +38,11 @@ inline void node_share(int nn, int t, int T, int& b, int& e) {
   e = static_cast<int>(static_cast<long>(nn) * (t + 1) / T);
 }
 
+// A Cartesian grid with linear shapes has stencils of a fixed width (the 4 nodes of the cell),
+// which solver_quad.cpp maps with packed operations; other grids and shapes use Stencil.
+template <class G, ShapeKind S>
+inline constexpr bool fixed_quad = std::is_same_v<G, CartesianGrid>&& S == ShapeKind::linear;
+
 // The span [begin, end) of nodes a thread's scatter touched.
 struct NodeSpan {
   int begin = std::numeric_limits<int>::max(), end = 0;
@@ -109,6 +114,20 @@ inline bool Solver::locate(const G& grid, int phase, std::size_t p, Stencil& st)
     // Cartesian: locating is a few flops, cheaper than reading a cache.
     return grid.template stencil<S>(pts.x[p], pts.y[p], options_.gimp_half_length_x,
                                     options_.gimp_half_length_y, st);
+  }
+}
+
+inline void Solver::store_gradient(PointFields& pts, long p, double Lxx, double Lxy, double Lyx,
+                                   double Lyy, bool extras, double div_s, double n_at,
+                                   int first_node) {
+  pts.Lxx[p] = Lxx;
+  pts.Lxy[p] = Lxy;
+  pts.Lyx[p] = Lyx;
+  pts.Lyy[p] = Lyy;
+  if (extras) {
+    div_solid_[p] = div_s;
+    liquid_cell_[p] = first_node;
+    liquid_.porosity[p] = std::clamp(n_at, 1e-3, 1.0);  // floor: a point never sees n = 0
   }
 }
 

@@ -1,6 +1,7 @@
 // The step of the Solver (solver.hpp) and its particle-grid maps: P2G of mass, momentum, forces,
 // porosity and drag; G2P with the FLIP/PIC blend and the MUSL momentum remap; the velocity
-// gradients; the lost-point checks; the point motion at the end of the step (docs/mpm.md).
+// gradients; the lost-point checks; the point motion at the end of the step (docs/mpm.md). A
+// Cartesian grid with linear shapes runs the same maps in solver_quad.cpp (fixed 2 x 2 stencils).
 #include <fmt/format.h>
 #include <omp.h>
 
@@ -96,6 +97,10 @@ void Solver::step_impl(const G& grid) {
 
 template <class G, ShapeKind S>
 void Solver::map_first_part(const G& grid, int t) {
+  if constexpr (fixed_quad<G, S>) {
+    map_first_quad(grid, t);  // solver_quad.cpp
+    return;
+  }
   const bool wet = liquid_.size() > 0;
   const int nn = nn_, T = threads_;
   const int fields = wet ? NF : solid_fields;
@@ -226,6 +231,10 @@ void Solver::lost_point(Phase phase, long index) const {
 // the same pass (it needs nothing but the point's own new velocity).
 template <class G, ShapeKind S>
 void Solver::update_points_part(const G& grid, int t, bool remap) {
+  if constexpr (fixed_quad<G, S>) {
+    update_points_quad(grid, t, remap);  // solver_quad.cpp
+    return;
+  }
   const double dt = dt_, flip = flip_fraction(), s = options_.mass_scaling;
   const bool usl = options_.scheme == UpdateScheme::usl;
   const bool wet = liquid_.size() > 0;
@@ -304,22 +313,12 @@ void Solver::update_points_part(const G& grid, int t, bool remap) {
   if (remap) mark_dirty(t, fields, span.begin, span.end);
 }
 
-inline void Solver::store_gradient(PointFields& pts, long p, double Lxx, double Lxy, double Lyx,
-                                   double Lyy, bool extras, double div_s, double n_at,
-                                   int first_node) {
-  pts.Lxx[p] = Lxx;
-  pts.Lxy[p] = Lxy;
-  pts.Lyx[p] = Lyx;
-  pts.Lyy[p] = Lyy;
-  if (extras) {
-    div_solid_[p] = div_s;
-    liquid_cell_[p] = first_node;
-    liquid_.porosity[p] = std::clamp(n_at, 1e-3, 1.0);  // floor: a point never sees n = 0
-  }
-}
-
 template <class G, ShapeKind S>
 void Solver::velocity_gradients_part(const G& grid, int t, bool liquid_extras) {
+  if constexpr (fixed_quad<G, S>) {
+    velocity_gradients_quad(grid, t, liquid_extras);  // solver_quad.cpp
+    return;
+  }
   auto grad = [&](PointFields& pts, const double* vx, const double* vy, bool extras) {
     const int phase = &pts == static_cast<PointFields*>(&liquid_) ? 1 : 0;
     std::size_t b, e;

@@ -1,0 +1,302 @@
+// The particle-grid maps of the Solver's step (solver_maps.cpp has the general ones) for a
+// Cartesian grid with linear shapes, where every stencil is the 2 x 2 nodes of the point's cell:
+// two rows of two adjacent nodes, (a, a+1) and (a + nx + 1, a + nx + 2). A row's shape values
+// are one 2-vector (Eigen::Array2d), so a nodal field of a row is read or updated with one packed
+// operation; the points are located once per step in a loop the compiler vectorises. The values
+// are those of CartesianGrid::stencil and the sums run in its node order, operation for
+// operation, so the results equal the general maps' bit for bit (docs/mpm.md, docs/performance.md).
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+
+#include "continuum/mpm/solver_internal.hpp"
+
+namespace granflow::mpm {
+
+using namespace solver_internal;
+
+namespace {
+
+using Pair = Eigen::Array2d;
+using Row = Eigen::Map<Pair>;  // two adjacent nodes of a field (unaligned)
+using ConstRow = Eigen::Map<const Pair>;
+
+// The stencil of one point: bilinear (Q4) functions N = Nx(ξ) Ny(η), Nx = {1 - ξ, ξ},
+// Ny = {1 - η, η}; ∂N/∂x = Nx'/h_x Ny, ∂N/∂y = Nx Ny'/h_y with Nx' = Ny' = {-1, 1}. Row r holds
+// the nodes (i, j + r) and (i + 1, j + r).
+struct QuadRows {
+  int node[2];  // first node of each row
+  Pair N[2], dNdx[2], dNdy[2];
+};
+
+// The located cells of one phase (Solver::cells_) and the grid constants the stencil needs.
+struct CellView {
+  const int* node;
+  const double* xi;
+  const double* eta;
+  double inv_hx, inv_hy;  // 1/h_x, 1/h_y (−1/h = −(1/h) exactly, as the grid's −1.0/h)
+  int row;                // nodes per grid row, nx + 1
+  bool rows(std::size_t p, QuadRows& q) const {
+    const int a = node[p];
+    if (a < 0) return false;
+    const double x = xi[p], y = eta[p];
+    const Pair Nx(1.0 - x, x), dx(-inv_hx, inv_hx);
+    const double Ny[2] = {1.0 - y, y}, dy[2] = {-inv_hy, inv_hy};
+    for (int r = 0; r < 2; ++r) {
+      q.node[r] = a + row * r;
+      q.N[r] = Nx * Ny[r];
+      q.dNdx[r] = dx * Ny[r];
+      q.dNdy[r] = Nx * dy[r];
+    }
+    return true;
+  }
+};
+
+// Σ_k w_k f(node_k) over the 4 nodes, added in the node order of CartesianGrid::stencil.
+inline double dot(const QuadRows& q, const Pair* w, const double* f) {
+  const Pair r0 = w[0] * ConstRow(f + q.node[0]), r1 = w[1] * ConstRow(f + q.node[1]);
+  return ((r0(0) + r0(1)) + r1(0)) + r1(1);
+}
+inline double sum(const Pair& r0, const Pair& r1) { return ((r0(0) + r0(1)) + r1(0)) + r1(1); }
+
+inline void add_span(NodeSpan& span, const QuadRows& q) {
+  span.begin = std::min(span.begin, q.node[0]);
+  span.end = std::max(span.end, q.node[1] + 2);
+}
+
+}  // namespace
+
+// fx = (x - x0)/h_x, i = min(floor(fx), nx - 1), ξ = fx - i (and so for y): the operations of
+// CartesianGrid::stencil, without a branch so that the loop vectorises (the comparisons are made
+// for every point, which -fno-trapping-math lets the compiler do in vectors).
+void Solver::locate_cells(const CartesianGrid& grid, int phase, std::size_t b, std::size_t e) {
+  const PointFields& pts = phase == 0 ? static_cast<const PointFields&>(solid_)
+                                      : static_cast<const PointFields&>(liquid_);
+  CellCache& c = cells_[phase];
+  const double* __restrict x = pts.x.data();
+  const double* __restrict y = pts.y.data();
+  int* __restrict node = c.node.data();
+  double* __restrict xi = c.xi.data();
+  double* __restrict eta = c.eta.data();
+  const double x0 = grid.x0(), y0 = grid.y0(), hx = grid.hx(), hy = grid.hy();
+  const int nx = grid.cells_x(), ny = grid.cells_y(), row = nx + 1;
+  const double fx_max = nx, fy_max = ny;
+  for (std::size_t p = b; p < e; ++p) {
+    const double fx = (x[p] - x0) / hx, fy = (y[p] - y0) / hy;
+    const bool inside = (fx >= 0.0) & (fy >= 0.0) & (fx <= fx_max) & (fy <= fy_max);
+    const double gx = inside ? fx : 0.0, gy = inside ? fy : 0.0;  // no cast of a NaN or huge f
+    const int i = std::min(static_cast<int>(gx), nx - 1);
+    const int j = std::min(static_cast<int>(gy), ny - 1);
+    xi[p] = gx - i;
+    eta[p] = gy - j;
+    node[p] = inside ? i + row * j : -1;
+  }
+}
+
+void Solver::map_first_quad(const CartesianGrid& grid, int t) {
+  const bool wet = liquid_.size() > 0;
+  const int nn = nn_, T = threads_;
+  const int fields = wet ? NF : solid_fields;
+  const double s = options_.mass_scaling, gx = options_.gravity_x, gy = options_.gravity_y;
+  double* acc = scatter_buffer(t, fields);
+  NodeSpan span;
+  long* lost = slots_[t].lost;
+  auto view = [&](int phase) {
+    const CellCache& c = cells_[phase];
+    return CellView{c.node.data(), c.xi.data(), c.eta.data(),
+                    c.inv_hx,      c.inv_hy,    grid.cells_x() + 1};
+  };
+  std::size_t b, e;
+  chunk(solid_.size(), t, T, b, e);
+  locate_cells(grid, 0, b, e);
+  {
+    double* ms = acc + MS * nn;
+    double* pxs = acc + PXS * nn;
+    double* pys = acc + PYS * nn;
+    double* fxs = acc + FXS * nn;
+    double* fys = acc + FYS * nn;
+    double* nms = acc + NMS * nn;
+    const SolidPoints& sp = solid_;
+    const CellView cells = view(0);
+    QuadRows q;
+    for (std::size_t p = b; p < e; ++p) {
+      if (!cells.rows(p, q)) {
+        if (lost[0] < 0) lost[0] = static_cast<long>(p);
+        continue;
+      }
+      if (T > 1) add_span(span, q);
+      const double m = sp.mass[p], mi = m * s, V = sp.volume[p];
+      const double mvx = mi * sp.vx[p], mvy = mi * sp.vy[p], mn = m * sp.porosity[p];
+      const double fx = m * gx + sp.fx_ext[p], fy = m * gy + sp.fy_ext[p];
+      const double sxx = sp.sxx[p] * V, syy = sp.syy[p] * V, sxy = sp.sxy[p] * V;
+      for (int r = 0; r < 2; ++r) {
+        const int a = q.node[r];
+        const Pair &N = q.N[r], &dx = q.dNdx[r], &dy = q.dNdy[r];
+        Row(ms + a) += N * mi;
+        Row(pxs + a) += N * mvx;
+        Row(pys + a) += N * mvy;
+        // f_int = -∫ ∇N · σ' dV ; f_ext = N (m g + point load)
+        Row(fxs + a) += N * fx - (dx * sxx + dy * sxy);
+        Row(fys + a) += N * fy - (dx * sxy + dy * syy);
+        Row(nms + a) += N * mn;
+      }
+    }
+  }
+  if (wet) {
+    double* ml = acc + ML * nn;
+    double* pxl = acc + PXL * nn;
+    double* pyl = acc + PYL * nn;
+    double* fxl = acc + FXL * nn;
+    double* fyl = acc + FYL * nn;
+    double* glx = acc + GLX * nn;
+    double* gly = acc + GLY * nn;
+    double* cd = acc + CD * nn;
+    const LiquidPoints& lp = liquid_;
+    chunk(lp.size(), t, T, b, e);
+    locate_cells(grid, 1, b, e);
+    const CellView cells = view(1);
+    QuadRows q;
+    for (std::size_t p = b; p < e; ++p) {
+      if (!cells.rows(p, q)) {
+        if (lost[1] < 0) lost[1] = static_cast<long>(p);
+        continue;
+      }
+      if (T > 1) add_span(span, q);
+      const double m = lp.mass[p], mi = m * s, V = lp.volume[p];
+      const double mvx = mi * lp.vx[p], mvy = mi * lp.vy[p];
+      const double fx = m * gx + lp.fx_ext[p], fy = m * gy + lp.fy_ext[p];
+      // Liquid stress σ_L = -p I + τ acting on the mixture volume V of the point.
+      const double sxx = (lp.txx[p] - lp.pressure[p]) * V, syy = (lp.tyy[p] - lp.pressure[p]) * V,
+                   sxy = lp.txy[p] * V;
+      const double beta_V = lp.drag[p] * V;
+      for (int r = 0; r < 2; ++r) {
+        const int a = q.node[r];
+        const Pair &N = q.N[r], &dx = q.dNdx[r], &dy = q.dNdy[r];
+        Row(ml + a) += N * mi;
+        Row(pxl + a) += N * mvx;
+        Row(pyl + a) += N * mvy;
+        Row(fxl + a) += N * fx;
+        Row(fyl + a) += N * fy;
+        Row(glx + a) -= dx * sxx + dy * sxy;
+        Row(gly + a) -= dx * sxy + dy * syy;
+        Row(cd + a) += N * beta_V;
+      }
+    }
+  }
+  mark_dirty(t, fields, span.begin, span.end);
+}
+
+// G2P with the FLIP/PIC blend (and the USL velocity gradient); with `remap` (MUSL) the updated
+// momentum is mapped back to the nodes in the same pass, as update_points_part does.
+void Solver::update_points_quad(const CartesianGrid& grid, int t, bool remap) {
+  const double dt = dt_, flip = flip_fraction(), s = options_.mass_scaling;
+  const bool usl = options_.scheme == UpdateScheme::usl;
+  const bool wet = liquid_.size() > 0;
+  const int nn = nn_, T = threads_;
+  const int fields = wet ? 6 : 3;
+  double* acc = remap ? scatter_buffer(t, fields) : nullptr;
+  NodeSpan span;
+  const double* vxs = nodes_.vx_solid.data();
+  const double* vys = nodes_.vy_solid.data();
+  auto g2p = [&](int phase, PointFields& pts, const double* vx, const double* vy, const double* ax,
+                 const double* ay, bool extras, double* m_, double* px_, double* py_) {
+    double* dx = displacement_x_[phase].data();
+    double* dy = displacement_y_[phase].data();
+    const CellCache& c = cells_[phase];
+    const CellView cells{c.node.data(), c.xi.data(), c.eta.data(),
+                         c.inv_hx,      c.inv_hy,    grid.cells_x() + 1};
+    std::size_t b, e;
+    chunk(pts.size(), t, T, b, e);
+    QuadRows q;
+    for (std::size_t p = b; p < e; ++p) {
+      if (!cells.rows(p, q)) continue;  // reported by the first map
+      const double vpx = dot(q, q.N, vx), vpy = dot(q, q.N, vy);
+      const double apx = dot(q, q.N, ax), apy = dot(q, q.N, ay);
+      // FLIP/PIC blend: v <- flip (v + dt a) + (1 - flip) v_PIC; x <- x + dt v_PIC
+      const double vx_new = flip * (pts.vx[p] + dt * apx) + (1.0 - flip) * vpx;
+      const double vy_new = flip * (pts.vy[p] + dt * apy) + (1.0 - flip) * vpy;
+      pts.vx[p] = vx_new;
+      pts.vy[p] = vy_new;
+      // Applied at the end of the step (move_points): every grid operation of the step uses
+      // the shape functions of the start-of-step configuration.
+      dx[p] = dt * vpx;
+      dy[p] = dt * vpy;
+      if (usl) {
+        double div_s = 0, n_at = 0;
+        if (extras) {
+          div_s =
+              sum(q.dNdx[0] * ConstRow(vxs + q.node[0]) + q.dNdy[0] * ConstRow(vys + q.node[0]),
+                  q.dNdx[1] * ConstRow(vxs + q.node[1]) + q.dNdy[1] * ConstRow(vys + q.node[1]));
+          n_at = dot(q, q.N, porosity_.data());
+          if (forchheimer_) {
+            const double wx = sum(q.N[0] * (ConstRow(vx + q.node[0]) - ConstRow(vxs + q.node[0])),
+                                  q.N[1] * (ConstRow(vx + q.node[1]) - ConstRow(vxs + q.node[1])));
+            const double wy = sum(q.N[0] * (ConstRow(vy + q.node[0]) - ConstRow(vys + q.node[0])),
+                                  q.N[1] * (ConstRow(vy + q.node[1]) - ConstRow(vys + q.node[1])));
+            relative_speed_[p] = std::hypot(wx, wy);
+          }
+        }
+        store_gradient(pts, static_cast<long>(p), dot(q, q.dNdx, vx), dot(q, q.dNdy, vx),
+                       dot(q, q.dNdx, vy), dot(q, q.dNdy, vy), extras, div_s, n_at, q.node[0]);
+      }
+      if (remap) {  // MUSL: m_a = Σ N m, (m v)_a = Σ N m v_new
+        if (T > 1) add_span(span, q);
+        const double mi = pts.mass[p] * s, mvx = mi * vx_new, mvy = mi * vy_new;
+        for (int r = 0; r < 2; ++r) {
+          const int a = q.node[r];
+          Row(m_ + a) += q.N[r] * mi;
+          Row(px_ + a) += q.N[r] * mvx;
+          Row(py_ + a) += q.N[r] * mvy;
+        }
+      }
+    }
+  };
+  double* none = nullptr;
+  g2p(0, solid_, vxs, vys, asx_.data(), asy_.data(), false, remap ? acc + R_MS * nn : none,
+      remap ? acc + R_PXS * nn : none, remap ? acc + R_PYS * nn : none);
+  if (wet) {
+    g2p(1, liquid_, nodes_.vx_liquid.data(), nodes_.vy_liquid.data(), alx_.data(), aly_.data(),
+        true, remap ? acc + R_ML * nn : none, remap ? acc + R_PXL * nn : none,
+        remap ? acc + R_PYL * nn : none);
+  }
+  if (remap) mark_dirty(t, fields, span.begin, span.end);
+}
+
+// L = Σ_a v_a ⊗ ∇N_a at the points (and, for the liquid, tr(D_S), n and |u_L - u_S| there), as
+// velocity_gradients_part does.
+void Solver::velocity_gradients_quad(const CartesianGrid& grid, int t, bool liquid_extras) {
+  const double* vxs = nodes_.vx_solid.data();
+  const double* vys = nodes_.vy_solid.data();
+  auto grad = [&](int phase, PointFields& pts, const double* vx, const double* vy, bool extras) {
+    const CellCache& c = cells_[phase];
+    const CellView cells{c.node.data(), c.xi.data(), c.eta.data(),
+                         c.inv_hx,      c.inv_hy,    grid.cells_x() + 1};
+    std::size_t b, e;
+    chunk(pts.size(), t, threads_, b, e);
+    QuadRows q;
+    for (std::size_t p = b; p < e; ++p) {
+      if (!cells.rows(p, q)) continue;
+      double div_s = 0, n_at = 0;
+      if (extras) {
+        div_s = sum(q.dNdx[0] * ConstRow(vxs + q.node[0]) + q.dNdy[0] * ConstRow(vys + q.node[0]),
+                    q.dNdx[1] * ConstRow(vxs + q.node[1]) + q.dNdy[1] * ConstRow(vys + q.node[1]));
+        n_at = dot(q, q.N, porosity_.data());
+        if (forchheimer_) {
+          const double wx = sum(q.N[0] * (ConstRow(vx + q.node[0]) - ConstRow(vxs + q.node[0])),
+                                q.N[1] * (ConstRow(vx + q.node[1]) - ConstRow(vxs + q.node[1])));
+          const double wy = sum(q.N[0] * (ConstRow(vy + q.node[0]) - ConstRow(vys + q.node[0])),
+                                q.N[1] * (ConstRow(vy + q.node[1]) - ConstRow(vys + q.node[1])));
+          relative_speed_[p] = std::hypot(wx, wy);
+        }
+      }
+      store_gradient(pts, static_cast<long>(p), dot(q, q.dNdx, vx), dot(q, q.dNdy, vx),
+                     dot(q, q.dNdx, vy), dot(q, q.dNdy, vy), extras, div_s, n_at, q.node[0]);
+    }
+  };
+  grad(0, solid_, vxs, vys, false);
+  if (liquid_.size() > 0) {
+    grad(1, liquid_, nodes_.vx_liquid.data(), nodes_.vy_liquid.data(), liquid_extras);
+  }
+}
+
+}  // namespace granflow::mpm
