@@ -196,11 +196,15 @@ def run_one(granflow, case, out, sets):
     for s in sets:
         args += ["--set", s]
     t0 = time.time()
-    with open(os.path.join(os.path.dirname(out), os.path.basename(out) + ".log"), "w") as log:
+    log_file = out + ".log"
+    with open(log_file, "w") as log:
         r = subprocess.run(args, stdout=log, stderr=subprocess.STDOUT)
     wall = time.time() - t0
-    if r.returncode != 0:
-        return dict(failed=True, status=r.returncode, wall=wall)
+    if r.returncode != 0:  # the run's last line says why (e.g. a stiffness out of bounds)
+        with open(log_file, errors="replace") as log:
+            lines = [line.strip() for line in log if line.strip()]
+        return dict(failed=True, status=r.returncode, wall=wall,
+                    why=lines[-1] if lines else "no output")
     return dict(read_run(out), failed=False, wall=wall)
 
 
@@ -259,8 +263,9 @@ def write_outputs(out, rows):
             label = r["label"] + (" (base)" if r["base"] else "") + (" *" if r["reference"]
                                                                      else "")
             if r["failed"]:
+                why = r["why"].replace("|", "/")
                 f.write(f"| {r['n']} | {r['inertial_target']:g} | {label} | failed (exit "
-                        f"{r['status']}) | | | | | | | | | {r['wall_s']:.0f} | |\n")
+                        f"{r['status']}: {why}) | | | | | | | | | {r['wall_s']:.0f} | |\n")
                 continue
             f.write(f"| {r['n']} | {r['inertial_target']:g} | {label} | "
                     f"{r['mu']:.4f} ± {r['mu_err']:.4f} | {r['phi']:.4f} ± {r['phi_err']:.4f} | "
@@ -284,7 +289,8 @@ def plot(out, rows):
                 continue
             if r["base"]:  # the base run, once, in black
                 if r["ladder"] == rows[0]["ladder"]:
-                    ax.loglog(r["particle_steps"], r["mu_error"], "s", color="k", label="base")
+                    ax.loglog(r["particle_steps"], r["mu_error"], "s", color="k",
+                              label=f"base (against the {r['ladder']} reference)")
                 continue
             ax.loglog(r["particle_steps"], max(r["mu_error"], 1e-5), markers[r["ladder"]],
                       color="C" + str(list(markers).index(r["ladder"])), label=r["ladder"],
@@ -301,7 +307,7 @@ def plot(out, rows):
     plt.close(fig)
 
 
-def table(ladder, results, vary, rungs, base):
+def table(ladder, results, vary, base):
     """One row per ladder and rung at each I (the base run appears in every ladder), compared
     with the ladder's most accurate rung."""
     rows = []
@@ -320,6 +326,7 @@ def table(ladder, results, vary, rungs, base):
                            strain=v["strain"], safety=v["safety"], stiffness=v["stiffness"],
                            sample=v["sample"], shear_rate=r["shear_rate"],
                            failed=int(res["failed"]), status=res.get("status", 0),
+                           why=res.get("why", ""),
                            wall_s=res["wall"], reference=int(v[name] == best),
                            base=int(v == base))
                 if not res["failed"]:
@@ -360,25 +367,24 @@ def main(argv):
 
     def job(r):
         res = run_one(a.granflow, a.case, r["out"], a.set + r["sets"])  # the rung last
-        state = "failed" if res["failed"] else f"μ {res['mu']:.4f} ± {res['mu_err']:.4f}"
+        state = (f"failed (exit {res['status']}): {res['why']}" if res["failed"] else
+                 f"μ {res['mu']:.4f} ± {res['mu_err']:.4f}")
         print(f"[{r['n']}] {r['label']}: {state}, {res['wall']:.0f} s", flush=True)
         return res
 
     with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
         results = list(pool.map(job, ladder))
-    rows = table(ladder, results, vary, rungs, base)
+    rows = table(ladder, results, vary, base)
     write_outputs(a.out, rows)
     try:
         plot(a.out, rows)
     except Exception as e:  # the tables are written; the plot is one line
         print(f"warning: {a.out}/pareto.png: {e}", file=sys.stderr)
     print(open(os.path.join(a.out, "study.md")).read())
-    failed = [r["label"] for r in rows if r["failed"]]
-    if failed:
-        print(f"error: {len(failed)} rung(s) failed: {', '.join(failed)} (logs: "
-              f"{a.out}/run_N.log)", file=sys.stderr)
-        return 1
-    return 0
+    failed = [(r, res) for r, res in zip(ladder, results) if res["failed"]]
+    for r, res in failed:
+        print(f"error: rung {r['label']} ({r['out']}.log): {res['why']}", file=sys.stderr)
+    return 1 if failed else 0
 
 
 if __name__ == "__main__":
