@@ -207,6 +207,8 @@ int run_main(int argc, char** argv) {
       "  mpirun -np 2 granflow run cases/dem/dry_sweep.yaml --set dem.ranks=1   (a sweep on 2 "
       "cores)\n"
       "  granflow study convergence cases/mpm/rheometer_ci.yaml --vary mesh\n"
+      "  granflow study convergence cases/dem/dry_point.yaml --vary particles,safety "
+      "--inertial 0.2\n"
       "  granflow study closures cases/calibrate/closure_study_dry.yaml   (mpirun -np N: shared)\n"
       "  granflow schema --markdown > docs/cases.md\n"
       "  granflow export runs/pair_dry --csv --out runs/pair_dry/csv\n\n"
