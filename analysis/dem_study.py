@@ -119,6 +119,13 @@ def case_value(case, path):
     return node
 
 
+def set_value(case, path, value):
+    *parents, leaf = path.split(".")
+    for part in parents:
+        case = case.setdefault(part, {})
+    case[leaf] = value
+
+
 def required(case, path, origin):
     value = case_value(case, path)
     if value is None:
@@ -139,6 +146,13 @@ def plan(case, origin, vary, rungs, inertial):
     if case_value(case, "control.mode") != "constant_pressure":
         raise BadInput(f"{origin}: control.mode: expected constant_pressure (the study sets γ̇ "
                        "from I and σ_yy, and the stiffness as E/σ_yy)")
+    # A swept key other than the shear rate runs at its first value (one condition per run),
+    # which is also the value the base and γ̇ are computed from.
+    fixed = []
+    for k, v in flatten_all(case_value(case, "sweep")):
+        if k != "shear_rate":
+            fixed.append(f"sweep.{k}=[{v[0]}]")
+            set_value(case, k, v[0])
     d = float(required(case, "material.diameter", origin))
     rho = float(required(case, "material.particle_density", origin))
     sigma = float(required(case, "control.normal_stress", origin))
@@ -149,13 +163,6 @@ def plan(case, origin, vary, rungs, inertial):
             base[name] = float(required(case, skey, origin)) / sfactor
         else:
             base[name] = spec["kind"](required(case, spec["key"], origin))
-    # A swept key other than the shear rate runs at its first value (one condition per run).
-    fixed = []
-    for key, values in sorted((case_value(case, "sweep") or {}).items()):
-        flat = flatten(key, values)
-        for k, v in flat:
-            if k != "shear_rate":
-                fixed.append(f"sweep.{k}=[{v[0]}]")
 
     def sets_of(values, gd):
         out = [f"{LADDERS[n]['key']}={values[n]}" for n in LADDERS if n != "stiffness"]
@@ -171,7 +178,7 @@ def plan(case, origin, vary, rungs, inertial):
                            values=dict(base), shear_rate=gd))
         for name in vary:
             for v in rungs[name]:
-                if v == base[name]:
+                if math.isclose(v, base[name], rel_tol=1e-9):
                     continue
                 values = dict(base, **{name: v})
                 ladder.append(dict(inertial_target=i, ladder=name,
