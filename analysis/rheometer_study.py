@@ -12,7 +12,8 @@ study.N.error, study.N.profile_error, study.N.wall_s, study.N.label) and OUT/par
 
 Usage: rheometer_study.py CASE OUT [--granflow PATH] [--vary mesh,ppc,dt_factor]
                           [--mesh 4x32,6x48,8x64,12x96] [--ppc 1,2,3] [--dt 0.25,0.5,0.9]
-                          [--set key.path=value ...]
+                          [--set key.path=value ...] [--check]
+--check checks the options only (exit 2 with one line on an unknown --vary name) and runs nothing.
 The finest run (the reference) is the last mesh with the largest ppc and the smallest dt factor.
 """
 import argparse
@@ -61,8 +62,16 @@ def main():
     ap.add_argument("--ppc", default="1,2,3")
     ap.add_argument("--dt", default="0.25,0.5,0.9")
     ap.add_argument("--set", action="append", default=[], help="extra case overrides k.p=v")
+    ap.add_argument("--check", action="store_true", help="check the options only, run nothing")
     a = ap.parse_args()
     vary = a.vary.split(",")
+    for v in vary:
+        if v not in ("mesh", "ppc", "dt_factor"):
+            print(f"error: --vary: unknown ladder '{v}' (expected any of mesh,ppc,dt_factor)",
+                  file=sys.stderr)
+            sys.exit(2)
+    if a.check:
+        return
     meshes = [tuple(int(v) for v in m.split("x")) for m in a.mesh.split(",")]
     ppcs = [int(v) for v in a.ppc.split(",")]
     dts = [float(v) for v in a.dt.split(",")]

@@ -94,6 +94,91 @@ int serve_run(const core::KindEntry& entry, const core::Case& c, int rank) {
   return code;
 }
 
+struct ConvergenceOptions {
+  std::string case_file, out_dir;
+  std::vector<std::string> sets;
+  std::string vary, mesh, ppc, dt;
+  std::vector<std::string> ladders;
+  std::string inertial;
+  int jobs = 1;
+  bool force = false;
+};
+
+// `granflow study convergence`: the kind's ladder script (KindEntry::convergence_study, e.g.
+// analysis/dem_study.py) driving this same executable, one `granflow run` per rung; it writes
+// study.csv/.md/.json and pareto.png (docs/speed-accuracy.md). The script first checks its
+// options alone (--check: exit 2 and one line on a bad one, before the directory is made), then
+// runs with the resolved case in DIR/case.yaml. Exit: the script's 0 or 2; 1 for any other.
+int convergence_study(const core::KindRegistry& registry, const ConvergenceOptions& o) {
+  std::optional<Loaded> loaded;
+  try {
+    loaded.emplace(load_and_check(registry, o.case_file, o.sets));  // bad input: exit 2
+  } catch (const core::CaseError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return core::exit_bad_input;
+  }
+  const core::KindEntry& entry = *loaded->entry;
+  if (entry.convergence_study.empty()) {
+    std::cerr << fmt::format(
+        "error: {}: kind {}{} has no convergence study (kinds with one: mpm/rheometer, dem)\n",
+        o.case_file, entry.kind, entry.test.empty() ? "" : "/" + entry.test);
+    return core::exit_bad_input;
+  }
+  const fs::path dir =
+      o.out_dir.empty()
+          ? fs::path("runs") / (fs::path(o.case_file).stem().string() + "_convergence")
+          : fs::path(o.out_dir);
+  std::vector<std::string> command = {core::python_interpreter(),
+                                      (core::source_dir() / entry.convergence_study).string(),
+                                      o.case_file,
+                                      dir.string(),
+                                      "--granflow",
+                                      fs::read_symlink("/proc/self/exe").string()};
+  if (!o.vary.empty()) command.insert(command.end(), {"--vary", o.vary});
+  if (!o.mesh.empty()) command.insert(command.end(), {"--mesh", o.mesh});
+  if (!o.ppc.empty()) command.insert(command.end(), {"--ppc", o.ppc});
+  if (!o.dt.empty()) command.insert(command.end(), {"--dt", o.dt});
+  for (const auto& item : o.ladders) command.insert(command.end(), {"--ladder", item});
+  if (!o.inertial.empty()) command.insert(command.end(), {"--inertial", o.inertial});
+  if (o.jobs != 1) command.insert(command.end(), {"--jobs", std::to_string(o.jobs)});
+  for (const auto& item : o.sets) command.insert(command.end(), {"--set", item});
+  auto status_of = [](const core::ProcessResult& result) {
+    if (!result.started()) std::cerr << "error: " << result.error << "\n";
+    return result.status == 0                      ? core::exit_ok
+           : result.status == core::exit_bad_input ? core::exit_bad_input
+                                                   : core::exit_failure;
+  };
+  std::vector<std::string> check = command;
+  check.push_back("--check");
+  if (const int code = status_of(core::run_process(check)); code != core::exit_ok) return code;
+  // The study directory is granflow's like a run directory: --force replaces only one with
+  // granflow's marker (force_refusal), and a new one gets the study marker.
+  try {
+    if (fs::exists(dir)) {
+      if (!o.force) {
+        std::cerr << "error: " << dir.string()
+                  << ": the study directory exists; choose --out DIR or pass --force\n";
+        return core::exit_bad_input;
+      }
+      if (const std::string why = core::force_refusal(dir); !why.empty()) {
+        std::cerr << "error: " << dir.string() << ": " << why << "\n";
+        return core::exit_bad_input;
+      }
+      fs::remove_all(dir);
+    }
+    fs::create_directories(dir);
+    core::write_text_file(dir / core::study_marker,
+                          "granflow study convergence " + o.case_file + "\n");
+    core::write_text_file(dir / "case.yaml",
+                          "# resolved case of the study (defaults filled in, --set applied)\n" +
+                              loaded->run_case.resolved_yaml());
+  } catch (const std::exception& e) {  // filesystem_error and IoError name the path and reason
+    std::cerr << "error: " << e.what() << "\n";
+    return core::exit_io;
+  }
+  return status_of(core::run_process(command));
+}
+
 int run_main(int argc, char** argv) {
   std::optional<core::MpiRanks> ranks;
   try {
@@ -122,6 +207,8 @@ int run_main(int argc, char** argv) {
       "  mpirun -np 2 granflow run cases/dem/dry_sweep.yaml --set dem.ranks=1   (a sweep on 2 "
       "cores)\n"
       "  granflow study convergence cases/mpm/rheometer_ci.yaml --vary mesh\n"
+      "  granflow study convergence cases/dem/dry_point.yaml --vary particles,safety "
+      "--inertial 0.2\n"
       "  granflow study closures cases/calibrate/closure_study_dry.yaml   (mpirun -np N: shared)\n"
       "  granflow schema --markdown > docs/cases.md\n"
       "  granflow export runs/pair_dry --csv --out runs/pair_dry/csv\n\n"
@@ -163,16 +250,30 @@ int run_main(int argc, char** argv) {
   auto* study = cli.add_subcommand("study", "studies made of many runs");
   auto* convergence = study->add_subcommand(
       "convergence",
-      "speed vs accuracy: a refinement ladder of an MPM case against its finest run");
-  std::string vary = "mesh,ppc,dt_factor", ladder_mesh, ladder_ppc, ladder_dt;
-  convergence->add_option("case", case_file, "MPM case file (YAML)")->required();
+      "speed vs accuracy: refinement ladders of an MPM rheometer or a DEM shear case "
+      "(docs/speed-accuracy.md)");
+  std::string vary, ladder_mesh, ladder_ppc, ladder_dt, inertial;
+  std::vector<std::string> ladders;
+  int jobs = 1;
+  convergence->add_option("case", case_file, "mpm/rheometer or dem case file (YAML)")->required();
   convergence->add_option("--out", out_dir,
                           "study directory (default runs/<case-name>_convergence)");
-  convergence->add_option("--vary", vary, "what to refine: any of mesh,ppc,dt_factor");
+  convergence->add_option("--vary", vary,
+                          "what to refine; mpm: any of mesh,ppc,dt_factor (default all); dem: "
+                          "any of particles,strain,safety,stiffness,sample (default all)");
   convergence->add_option("--mesh", ladder_mesh,
-                          "mesh ladder, cells_r x cells_theta: 4x32,6x48,8x64");
-  convergence->add_option("--ppc", ladder_ppc, "points per cell and direction ladder: 1,2,3");
-  convergence->add_option("--dt", ladder_dt, "time step factor ladder: 0.25,0.5,0.9");
+                          "mpm: mesh ladder, cells_r x cells_theta: 4x32,6x48,8x64");
+  convergence->add_option("--ppc", ladder_ppc, "mpm: points per cell and direction: 1,2,3");
+  convergence->add_option("--dt", ladder_dt, "mpm: time step factor ladder: 0.25,0.5,0.9");
+  convergence
+      ->add_option("--ladder", ladders,
+                   "dem: the rungs of one ladder, NAME=V1,V2,... (repeatable; e.g. "
+                   "particles=250,500,1000; stiffness in E/sigma_yy)")
+      ->take_all();
+  convergence->add_option("--inertial", inertial,
+                          "dem: the inertial numbers at which every ladder runs (0.01,0.2)");
+  convergence->add_option("--jobs", jobs, "dem: rungs run at the same time (default 1)")
+      ->check(CLI::PositiveNumber);
   convergence->add_option("--set", sets, "override a case key in every run: key.path=value")
       ->take_all();
   convergence->add_flag("--force", force, "replace an existing study directory");
@@ -223,58 +324,9 @@ int run_main(int argc, char** argv) {
 #endif
   }
 
-  if (convergence->parsed()) {
-    // The ladder is analysis/rheometer_study.py driving this same executable (one granflow run per
-    // rung); it writes study.csv/.md/.json and pareto.png (docs/speed-accuracy.md).
-    try {
-      load_and_check(registry, case_file, sets);  // bad input stops here, with exit 2
-    } catch (const core::CaseError& e) {
-      std::cerr << "error: " << e.what() << "\n";
-      return core::exit_bad_input;
-    }
-    const fs::path dir =
-        out_dir.empty() ? fs::path("runs") / (fs::path(case_file).stem().string() + "_convergence")
-                        : fs::path(out_dir);
-    // The study directory is granflow's like a run directory: --force replaces only one with
-    // granflow's marker (force_refusal), and a new one gets the study marker.
-    try {
-      if (fs::exists(dir)) {
-        if (!force) {
-          std::cerr << "error: " << dir.string()
-                    << ": the study directory exists; choose --out DIR or pass --force\n";
-          return core::exit_bad_input;
-        }
-        if (const std::string why = core::force_refusal(dir); !why.empty()) {
-          std::cerr << "error: " << dir.string() << ": " << why << "\n";
-          return core::exit_bad_input;
-        }
-        fs::remove_all(dir);
-      }
-      fs::create_directories(dir);
-      core::write_text_file(dir / core::study_marker,
-                            "granflow study convergence " + case_file + "\n");
-    } catch (const std::exception& e) {  // filesystem_error and IoError name the path and reason
-      std::cerr << "error: " << e.what() << "\n";
-      return core::exit_io;
-    }
-    std::vector<std::string> command = {
-        core::python_interpreter(),
-        (core::source_dir() / "analysis" / "rheometer_study.py").string(),
-        case_file,
-        dir.string(),
-        "--granflow",
-        fs::read_symlink("/proc/self/exe").string(),
-        "--vary",
-        vary};
-    if (!ladder_mesh.empty()) command.insert(command.end(), {"--mesh", ladder_mesh});
-    if (!ladder_ppc.empty()) command.insert(command.end(), {"--ppc", ladder_ppc});
-    if (!ladder_dt.empty()) command.insert(command.end(), {"--dt", ladder_dt});
-    for (const auto& item : sets) command.insert(command.end(), {"--set", item});
-    const core::ProcessResult study = core::run_process(command);
-    if (!study.started()) std::cerr << "error: " << study.error << "\n";
-    const int status = study.status;
-    return status == 0 ? core::exit_ok : core::exit_failure;
-  }
+  if (convergence->parsed())
+    return convergence_study(registry, {case_file, out_dir, sets, vary, ladder_mesh, ladder_ppc,
+                                        ladder_dt, ladders, inertial, jobs, force});
   if (report->parsed()) {
     try {
       std::cout << analysis::write_report(report_dir, registry).string() << "\n";

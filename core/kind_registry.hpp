@@ -33,6 +33,10 @@ struct KindEntry {
   // (an interrupted run). Optional.
   std::function<std::string(const std::filesystem::path& run_dir, Summary& summary)> report =
       nullptr;
+  // `granflow study convergence CASE`: the kind's ladder script, a path under the source
+  // directory (analysis/...), started with CASE, the study directory (holding the resolved case
+  // as case.yaml) and the command's options; empty: the kind has no convergence study.
+  std::string convergence_study{};
 };
 
 class KindRegistry {

@@ -499,6 +499,7 @@ void register_dem_kinds(core::KindRegistry& registry) {
   entry.distributes_conditions = true;
   entry.report = dem_report_section;
   entry.check_inputs = check_preparation_inputs;
+  entry.convergence_study = "analysis/dem_study.py";  // docs/speed-accuracy.md, section DEM
   registry.add(std::move(entry));
   register_prepare_kind(registry);
 }

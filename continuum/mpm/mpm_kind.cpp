@@ -292,10 +292,17 @@ void register_mpm_kinds(core::KindRegistry& registry) {
   registry.add({"mpm", "elastic_column", "elastic column under gravity, at rest", column_schema(),
                 check_box_problem, kind::run_column, "cases/mpm/elastic_column.yaml",
                 kind::column_inputs});
-  registry.add({"mpm", "rheometer",
-                "undrained constant-volume annular rheometer with the multi-regime material",
-                rheometer_schema(), check_rheometer, kind::run_rheometer,
-                "cases/mpm/rheometer_test1.yaml", kind::rheometer_inputs});
+  core::KindEntry rheometer{
+      "mpm",
+      "rheometer",
+      "undrained constant-volume annular rheometer with the multi-regime material",
+      rheometer_schema(),
+      check_rheometer,
+      kind::run_rheometer,
+      "cases/mpm/rheometer_test1.yaml",
+      kind::rheometer_inputs};
+  rheometer.convergence_study = "analysis/rheometer_study.py";
+  registry.add(std::move(rheometer));
 }
 
 }  // namespace granflow::mpm
