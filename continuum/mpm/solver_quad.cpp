@@ -59,6 +59,31 @@ inline double dot(const QuadRows& q, const Pair* w, const double* f) {
 }
 inline double sum(const Pair& r0, const Pair& r1) { return ((r0(0) + r0(1)) + r1(0)) + r1(1); }
 
+// The velocity gradient L = Σ_a v_a ⊗ ∇N_a at one point and, with `extras` (liquid points),
+// tr(D_S), the porosity n there and, with Forchheimer drag, |u_L - u_S|; handed to `store` as
+// store(Lxx, Lxy, Lyx, Lyy, div_s, n_at) (Solver::store_gradient). One body for G2P (USL) and
+// the separate gradient pass.
+template <class Store>
+inline void point_gradient(const QuadRows& q, const double* vx, const double* vy, const double* vxs,
+                           const double* vys, const double* porosity, bool extras, bool forchheimer,
+                           double* relative_speed, Store store) {
+  double div_s = 0, n_at = 0;
+  if (extras) {
+    div_s = sum(q.dNdx[0] * ConstRow(vxs + q.node[0]) + q.dNdy[0] * ConstRow(vys + q.node[0]),
+                q.dNdx[1] * ConstRow(vxs + q.node[1]) + q.dNdy[1] * ConstRow(vys + q.node[1]));
+    n_at = dot(q, q.N, porosity);
+    if (forchheimer) {
+      const double wx = sum(q.N[0] * (ConstRow(vx + q.node[0]) - ConstRow(vxs + q.node[0])),
+                            q.N[1] * (ConstRow(vx + q.node[1]) - ConstRow(vxs + q.node[1])));
+      const double wy = sum(q.N[0] * (ConstRow(vy + q.node[0]) - ConstRow(vys + q.node[0])),
+                            q.N[1] * (ConstRow(vy + q.node[1]) - ConstRow(vys + q.node[1])));
+      *relative_speed = std::hypot(wx, wy);
+    }
+  }
+  store(dot(q, q.dNdx, vx), dot(q, q.dNdy, vx), dot(q, q.dNdx, vy), dot(q, q.dNdy, vy), div_s,
+        n_at);
+}
+
 inline void add_span(NodeSpan& span, const QuadRows& q) {
   span.begin = std::min(span.begin, q.node[0]);
   span.end = std::max(span.end, q.node[1] + 2);
@@ -222,22 +247,13 @@ void Solver::update_points_quad(const CartesianGrid& grid, int t, bool remap) {
       dx[p] = dt * vpx;
       dy[p] = dt * vpy;
       if (usl) {
-        double div_s = 0, n_at = 0;
-        if (extras) {
-          div_s =
-              sum(q.dNdx[0] * ConstRow(vxs + q.node[0]) + q.dNdy[0] * ConstRow(vys + q.node[0]),
-                  q.dNdx[1] * ConstRow(vxs + q.node[1]) + q.dNdy[1] * ConstRow(vys + q.node[1]));
-          n_at = dot(q, q.N, porosity_.data());
-          if (forchheimer_) {
-            const double wx = sum(q.N[0] * (ConstRow(vx + q.node[0]) - ConstRow(vxs + q.node[0])),
-                                  q.N[1] * (ConstRow(vx + q.node[1]) - ConstRow(vxs + q.node[1])));
-            const double wy = sum(q.N[0] * (ConstRow(vy + q.node[0]) - ConstRow(vys + q.node[0])),
-                                  q.N[1] * (ConstRow(vy + q.node[1]) - ConstRow(vys + q.node[1])));
-            relative_speed_[p] = std::hypot(wx, wy);
-          }
-        }
-        store_gradient(pts, static_cast<long>(p), dot(q, q.dNdx, vx), dot(q, q.dNdy, vx),
-                       dot(q, q.dNdx, vy), dot(q, q.dNdy, vy), extras, div_s, n_at, q.node[0]);
+        point_gradient(
+            q, vx, vy, vxs, vys, porosity_.data(), extras, forchheimer_,
+            forchheimer_ ? relative_speed_.data() + p : nullptr,
+            [&](double Lxx, double Lxy, double Lyx, double Lyy, double div_s, double n_at) {
+              store_gradient(pts, static_cast<long>(p), Lxx, Lxy, Lyx, Lyy, extras, div_s, n_at,
+                             q.node[0]);
+            });
       }
       if (remap) {  // MUSL: m_a = Σ N m, (m v)_a = Σ N m v_new
         if (T > 1) add_span(span, q);
@@ -276,21 +292,13 @@ void Solver::velocity_gradients_quad(const CartesianGrid& grid, int t, bool liqu
     QuadRows q;
     for (std::size_t p = b; p < e; ++p) {
       if (!cells.rows(p, q)) continue;
-      double div_s = 0, n_at = 0;
-      if (extras) {
-        div_s = sum(q.dNdx[0] * ConstRow(vxs + q.node[0]) + q.dNdy[0] * ConstRow(vys + q.node[0]),
-                    q.dNdx[1] * ConstRow(vxs + q.node[1]) + q.dNdy[1] * ConstRow(vys + q.node[1]));
-        n_at = dot(q, q.N, porosity_.data());
-        if (forchheimer_) {
-          const double wx = sum(q.N[0] * (ConstRow(vx + q.node[0]) - ConstRow(vxs + q.node[0])),
-                                q.N[1] * (ConstRow(vx + q.node[1]) - ConstRow(vxs + q.node[1])));
-          const double wy = sum(q.N[0] * (ConstRow(vy + q.node[0]) - ConstRow(vys + q.node[0])),
-                                q.N[1] * (ConstRow(vy + q.node[1]) - ConstRow(vys + q.node[1])));
-          relative_speed_[p] = std::hypot(wx, wy);
-        }
-      }
-      store_gradient(pts, static_cast<long>(p), dot(q, q.dNdx, vx), dot(q, q.dNdy, vx),
-                     dot(q, q.dNdx, vy), dot(q, q.dNdy, vy), extras, div_s, n_at, q.node[0]);
+      point_gradient(
+          q, vx, vy, vxs, vys, porosity_.data(), extras, forchheimer_,
+          forchheimer_ ? relative_speed_.data() + p : nullptr,
+          [&](double Lxx, double Lxy, double Lyx, double Lyy, double div_s, double n_at) {
+            store_gradient(pts, static_cast<long>(p), Lxx, Lxy, Lyx, Lyy, extras, div_s, n_at,
+                           q.node[0]);
+          });
     }
   };
   grad(0, solid_, vxs, vys, false);
