@@ -322,7 +322,9 @@ TEST(ClosureStudy, ConstantVolumeCurvesRunOverTheImposedSolidFraction) {
   std::string text = slurp(fs::path(GRANFLOW_SOURCE_DIR) / "cases/calibrate/from_table.yaml");
   const std::string table =
       (fs::path(GRANFLOW_SOURCE_DIR) / "cases/calibrate/from_table_cv.csv").string();
-  text.replace(text.find("from_table_cv.csv"), std::string("from_table_cv.csv").size(), table);
+  const std::string key = "table: from_table_cv.csv";  // the data line, not a comment's mention
+  ASSERT_NE(text.find(key), std::string::npos);
+  text.replace(text.find(key), key.size(), "table: " + table);
   text += "closures:\n  collisional.correlation_length: [diameter, toward_jamming]\n";
   std::ofstream(file) << text;
   const auto dir = work / "study_cv";
