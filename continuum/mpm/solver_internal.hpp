@@ -62,6 +62,70 @@ struct NodeSpan {
   }
 };
 
+// P2G of one point: its loads, and their scatter to a node (or to a row of two adjacent nodes,
+// Value = Eigen::Array2d, solver_quad.cpp) with the node's shape value N and gradient (dx, dy).
+// One body for the general and the fixed-stencil maps, so both add the same terms in the same
+// order. `at(field)` gives the node's (or row's) entry of a nodal field, a reference or a map.
+struct SolidLoad {
+  double mi, mvx, mvy, mn, fx, fy, sxx, syy, sxy;
+};
+// m_i = m s (mass scaling s), m v, m n, f_ext = m g + point load, σ' V.
+inline SolidLoad solid_load(const SolidPoints& sp, std::size_t p, double s, double gx, double gy) {
+  const double m = sp.mass[p], mi = m * s, V = sp.volume[p];
+  return {mi,
+          mi * sp.vx[p],
+          mi * sp.vy[p],
+          m * sp.porosity[p],
+          m * gx + sp.fx_ext[p],
+          m * gy + sp.fy_ext[p],
+          sp.sxx[p] * V,
+          sp.syy[p] * V,
+          sp.sxy[p] * V};
+}
+template <class Value, class At>
+inline void scatter_solid(const SolidLoad& L, const Value& N, const Value& dx, const Value& dy,
+                          double* ms, double* pxs, double* pys, double* fxs, double* fys,
+                          double* nms, At at) {
+  at(ms) += N * L.mi;
+  at(pxs) += N * L.mvx;
+  at(pys) += N * L.mvy;
+  // f_int = -∫ ∇N · σ' dV ; f_ext = N (m g + point load)
+  at(fxs) += N * L.fx - (dx * L.sxx + dy * L.sxy);
+  at(fys) += N * L.fy - (dx * L.sxy + dy * L.syy);
+  at(nms) += N * L.mn;
+}
+struct LiquidLoad {
+  double mi, mvx, mvy, fx, fy, sxx, syy, sxy, beta_V;
+};
+// As solid_load, with the liquid stress σ_L = -p I + τ acting on the mixture volume V of the
+// point, and the drag coefficient times V.
+inline LiquidLoad liquid_load(const LiquidPoints& lp, std::size_t p, double s, double gx,
+                              double gy) {
+  const double m = lp.mass[p], mi = m * s, V = lp.volume[p];
+  return {mi,
+          mi * lp.vx[p],
+          mi * lp.vy[p],
+          m * gx + lp.fx_ext[p],
+          m * gy + lp.fy_ext[p],
+          (lp.txx[p] - lp.pressure[p]) * V,
+          (lp.tyy[p] - lp.pressure[p]) * V,
+          lp.txy[p] * V,
+          lp.drag[p] * V};
+}
+template <class Value, class At>
+inline void scatter_liquid(const LiquidLoad& L, const Value& N, const Value& dx, const Value& dy,
+                           double* ml, double* pxl, double* pyl, double* fxl, double* fyl,
+                           double* glx, double* gly, double* cd, At at) {
+  at(ml) += N * L.mi;
+  at(pxl) += N * L.mvx;
+  at(pyl) += N * L.mvy;
+  at(fxl) += N * L.fx;
+  at(fyl) += N * L.fy;
+  at(glx) -= dx * L.sxx + dy * L.sxy;
+  at(gly) -= dx * L.sxy + dy * L.syy;
+  at(cd) += N * L.beta_V;
+}
+
 }  // namespace granflow::mpm::solver_internal
 
 namespace granflow::mpm {

@@ -124,20 +124,11 @@ void Solver::map_first_part(const G& grid, int t) {
       continue;
     }
     if (T > 1) span.add<G>(st);
-    const double m = sp.mass[p], mi = m * s, V = sp.volume[p];
-    const double mvx = mi * sp.vx[p], mvy = mi * sp.vy[p], mn = m * sp.porosity[p];
-    const double fx = m * gx + sp.fx_ext[p], fy = m * gy + sp.fy_ext[p];
-    const double sxx = sp.sxx[p] * V, syy = sp.syy[p] * V, sxy = sp.sxy[p] * V;
+    const SolidLoad load = solid_load(sp, p, s, gx, gy);
     for (int k = 0; k < st.count; ++k) {
       const int a = st.node[k];
-      const double N = st.N[k], dx = st.dNdx[k], dy = st.dNdy[k];
-      ms[a] += N * mi;
-      pxs[a] += N * mvx;
-      pys[a] += N * mvy;
-      // f_int = -∫ ∇N · σ' dV ; f_ext = N (m g + point load)
-      fxs[a] += N * fx - (dx * sxx + dy * sxy);
-      fys[a] += N * fy - (dx * sxy + dy * syy);
-      nms[a] += N * mn;
+      scatter_solid(load, st.N[k], st.dNdx[k], st.dNdy[k], ms, pxs, pys, fxs, fys, nms,
+                    [a](double* f) -> double& { return f[a]; });
     }
   }
   if (wet) {
@@ -157,24 +148,11 @@ void Solver::map_first_part(const G& grid, int t) {
         continue;
       }
       if (T > 1) span.add<G>(st);
-      const double m = lp.mass[p], mi = m * s, V = lp.volume[p];
-      const double mvx = mi * lp.vx[p], mvy = mi * lp.vy[p];
-      const double fx = m * gx + lp.fx_ext[p], fy = m * gy + lp.fy_ext[p];
-      // Liquid stress σ_L = -p I + τ acting on the mixture volume V of the point.
-      const double sxx = (lp.txx[p] - lp.pressure[p]) * V, syy = (lp.tyy[p] - lp.pressure[p]) * V,
-                   sxy = lp.txy[p] * V;
-      const double beta_V = lp.drag[p] * V;
+      const LiquidLoad load = liquid_load(lp, p, s, gx, gy);
       for (int k = 0; k < st.count; ++k) {
         const int a = st.node[k];
-        const double N = st.N[k], dx = st.dNdx[k], dy = st.dNdy[k];
-        ml[a] += N * mi;
-        pxl[a] += N * mvx;
-        pyl[a] += N * mvy;
-        fxl[a] += N * fx;
-        fyl[a] += N * fy;
-        glx[a] -= dx * sxx + dy * sxy;
-        gly[a] -= dx * sxy + dy * syy;
-        cd[a] += N * beta_V;
+        scatter_liquid(load, st.N[k], st.dNdx[k], st.dNdy[k], ml, pxl, pyl, fxl, fyl, glx, gly, cd,
+                       [a](double* f) -> double& { return f[a]; });
       }
     }
   }

@@ -150,20 +150,11 @@ void Solver::map_first_quad(const CartesianGrid& grid, int t) {
         continue;
       }
       if (T > 1) add_span(span, q);
-      const double m = sp.mass[p], mi = m * s, V = sp.volume[p];
-      const double mvx = mi * sp.vx[p], mvy = mi * sp.vy[p], mn = m * sp.porosity[p];
-      const double fx = m * gx + sp.fx_ext[p], fy = m * gy + sp.fy_ext[p];
-      const double sxx = sp.sxx[p] * V, syy = sp.syy[p] * V, sxy = sp.sxy[p] * V;
+      const SolidLoad load = solid_load(sp, p, s, gx, gy);
       for (int r = 0; r < 2; ++r) {
         const int a = q.node[r];
-        const Pair &N = q.N[r], &dx = q.dNdx[r], &dy = q.dNdy[r];
-        Row(ms + a) += N * mi;
-        Row(pxs + a) += N * mvx;
-        Row(pys + a) += N * mvy;
-        // f_int = -∫ ∇N · σ' dV ; f_ext = N (m g + point load)
-        Row(fxs + a) += N * fx - (dx * sxx + dy * sxy);
-        Row(fys + a) += N * fy - (dx * sxy + dy * syy);
-        Row(nms + a) += N * mn;
+        scatter_solid(load, q.N[r], q.dNdx[r], q.dNdy[r], ms, pxs, pys, fxs, fys, nms,
+                      [a](double* f) { return Row(f + a); });
       }
     }
   }
@@ -187,24 +178,11 @@ void Solver::map_first_quad(const CartesianGrid& grid, int t) {
         continue;
       }
       if (T > 1) add_span(span, q);
-      const double m = lp.mass[p], mi = m * s, V = lp.volume[p];
-      const double mvx = mi * lp.vx[p], mvy = mi * lp.vy[p];
-      const double fx = m * gx + lp.fx_ext[p], fy = m * gy + lp.fy_ext[p];
-      // Liquid stress σ_L = -p I + τ acting on the mixture volume V of the point.
-      const double sxx = (lp.txx[p] - lp.pressure[p]) * V, syy = (lp.tyy[p] - lp.pressure[p]) * V,
-                   sxy = lp.txy[p] * V;
-      const double beta_V = lp.drag[p] * V;
+      const LiquidLoad load = liquid_load(lp, p, s, gx, gy);
       for (int r = 0; r < 2; ++r) {
         const int a = q.node[r];
-        const Pair &N = q.N[r], &dx = q.dNdx[r], &dy = q.dNdy[r];
-        Row(ml + a) += N * mi;
-        Row(pxl + a) += N * mvx;
-        Row(pyl + a) += N * mvy;
-        Row(fxl + a) += N * fx;
-        Row(fyl + a) += N * fy;
-        Row(glx + a) -= dx * sxx + dy * sxy;
-        Row(gly + a) -= dx * sxy + dy * syy;
-        Row(cd + a) += N * beta_V;
+        scatter_liquid(load, q.N[r], q.dNdx[r], q.dNdy[r], ml, pxl, pyl, fxl, fyl, glx, gly, cd,
+                       [a](double* f) { return Row(f + a); });
       }
     }
   }
