@@ -49,10 +49,12 @@ const std::vector<ParameterSpec>& parameter_specs() {
        "Δμ_FC of μ_FC(I) = μ_cs + Δμ_FC/(1 + I_0/I) (granflow's own; start it above 0)"},
       {"friction_rise_I0", "steady.friction_rise_I0", 1e-3, 10.0,
        "I_0 of the force chains' friction rise"},
-      {"inertial_contact", "steady.inertial_contact", 0.0, 10.0,
+      {"inertial_contact", "collisional.inertial_contact", 0.0, 10.0,
        "a_c of the contacts' dense inertial stress ρ_p (a_c d γ̇)² (ν_c - ν)^-m (granflow's own)"},
-      {"inertial_contact_power", "steady.inertial_contact_power", 0.5, 4.0,
+      {"inertial_contact_power", "collisional.inertial_contact_power", 0.5, 4.0,
        "m of the contacts' dense inertial stress ∝ (ν_c - ν)^-m (2: φ = φ_c - a I)"},
+      {"inertial_contact_friction", "collisional.inertial_contact_friction", 0.0, 3.0,
+       "μ_IC, the friction of the contacts' dense inertial stress (start it above 0)"},
       {"viscous_dilatancy", "steady.viscous_dilatancy", 0.0, 10.0,
        "a_J of e_Γ + a_J √J (granflow's own, immersed; start it above 0)"},
   };
@@ -86,8 +88,9 @@ double parameter_value(const CalibratedModel& m, const std::string& name) {
   if (name == "friction_rise") return m.factors.friction_rise;
   if (name == "friction_rise_I0") return m.factors.friction_rise_I0;
   if (name == "viscous_dilatancy") return m.factors.viscous_dilatancy;
-  if (name == "inertial_contact") return m.factors.inertial_contact;
-  if (name == "inertial_contact_power") return m.factors.inertial_contact_power;
+  if (name == "inertial_contact") return m.settings.inertial_contact;
+  if (name == "inertial_contact_power") return m.settings.inertial_contact_power;
+  if (name == "inertial_contact_friction") return m.settings.inertial_contact_friction;
   return parameter_spec(name).lower;  // throws for unknown names
 }
 
@@ -124,9 +127,11 @@ void set_parameter(CalibratedModel& m, const std::string& name, double value) {
   else if (name == "viscous_dilatancy")
     m.factors.viscous_dilatancy = value;
   else if (name == "inertial_contact")
-    m.factors.inertial_contact = value;
+    m.settings.inertial_contact = value;
   else if (name == "inertial_contact_power")
-    m.factors.inertial_contact_power = value;
+    m.settings.inertial_contact_power = value;
+  else if (name == "inertial_contact_friction")
+    m.settings.inertial_contact_friction = value;
   else
     parameter_spec(name);  // throws
 }

@@ -54,8 +54,6 @@ CalibratedModel read_case_model(const core::Case& c) {
     m.factors.friction_rise = c.number("steady.friction_rise");
     m.factors.friction_rise_I0 = c.number("steady.friction_rise_I0");
     m.factors.viscous_dilatancy = c.number("steady.viscous_dilatancy");
-    m.factors.inertial_contact = c.number("steady.inertial_contact");
-    m.factors.inertial_contact_power = c.number("steady.inertial_contact_power");
     m.factors.skeleton_from_model = c.string("steady.skeleton_stress") == "force_chain_model";
   }
   m.factors.mixed_number_alpha = c.number("liquid.trulsson_alpha");

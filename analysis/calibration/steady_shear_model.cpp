@@ -92,7 +92,8 @@ std::string in_parallel_caveat(const continuum::MultiRegimeSettings& settings) {
   return fmt::format(
       "the critical state line starts at φ = 1/(1+e_Γ) = {:.4f}, at or beyond the largest solid "
       "fraction of the collisional closures ({:.4f}): the force chains never carry a "
-      "rate-independent load (their friction still shears steady.inertial_contact's stress, if "
+      "rate-independent load (their friction still shears collisional.inertial_contact's stress, "
+      "if "
       "set); if that is not meant, set force_chains.e_Gamma for this material (e.g. include "
       "cases/rev/materials/dem_spheres_force_chains.yaml)",
       nu_line, nu_max);
@@ -234,11 +235,11 @@ struct InParallel {
     return steady_sqrt_temperature_at(settings, factors, nu, shear_rate,
                                       production_per_pressure * p_fc);
   }
-  // σ_yy,IC(ν) = ρ_p (a_c d γ̇)² (ν_c - ν)^-m (ModelFactors::inertial_contact)
+  // σ_yy,IC(ν) = ρ_p (a_c d γ̇)² (ν_c - ν)^-m (MultiRegimeSettings::inertial_contact)
   double inertial_contact(double nu) const {
-    if (factors.inertial_contact == 0) return 0.0;
-    const double scale = factors.inertial_contact * d * shear_rate;
-    return rho_p * scale * scale * std::pow(nu_max - nu, -factors.inertial_contact_power);
+    if (settings.inertial_contact == 0) return 0.0;
+    const double scale = settings.inertial_contact * d * shear_rate;
+    return rho_p * scale * scale * std::pow(nu_max - nu, -settings.inertial_contact_power);
   }
   // σ_yy,FC(ν) + σ_yy,IC(ν) + p_COL(ν, s(ν)): the normal stress the state at ν carries
   double pressure(double nu) const {
@@ -260,9 +261,12 @@ struct InParallel {
     out.force_chain_normal_stress = p_fc;
     out.collisional_pressure = p_col;
     out.inertial_contact_normal_stress = p_ic;
-    // τ_IC = μ_FC σ_yy,IC; without force chains μ_FC is the critical state's M(θ=0)/√3
-    const double mu_contacts =
-        chains ? mu_fc : critical_state_friction(settings.force_chain_parameters);
+    // τ_IC = μ_IC σ_yy,IC: collisional.inertial_contact_friction if set, else μ_FC (without
+    // force chains the critical state's M(θ=0)/√3)
+    const double mu_contacts = settings.inertial_contact_friction > 0
+                                   ? settings.inertial_contact_friction
+                               : chains ? mu_fc
+                                        : critical_state_friction(settings.force_chain_parameters);
     out.force_chain_shear_stress = mu_fc * p_fc + mu_contacts * p_ic;
     out.collisional_shear_stress = rho_p * d * c.f2 * s * shear_rate;  // τ_COL = η_COL γ̇
     if (settings.liquid) {

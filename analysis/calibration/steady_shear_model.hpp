@@ -68,18 +68,6 @@ struct ModelFactors {
   // e(J) = e_m + √J/φ_m): e_Γ -> e_Γ + a_J √J with J = η0 γ̇/p of the imposed condition. 0 = the
   // seed's critical state, which does not see the liquid.
   double viscous_dilatancy = 0.0;
-  // a_c: the contacts' normal stress of dense inertial flow of rigid grains
-  // (steady.inertial_contact; granflow's own term after the dense-flow law φ = φ_c - a I of
-  // GDR MiDi (2004) and da Cruz et al. (2005), which at constant volume reads, with m = 2,
-  //   σ_yy,IC = ρ_p (a_c d γ̇)² (ν_c - ν)^-m,  τ_IC = μ_FC σ_yy,IC,
-  // ν_c the jamming fraction of g0). Enduring contacts of rigid grains carry a stress that scales
-  // as γ̇² like the collisions' but grows as (ν_c - ν)^-m, faster than kinetic theory's p_COL with
-  // the measured T (docs/calibration.md, "Constant-volume DEM ... dense branch"). 0 = the seed's
-  // model. It carries no temperature production of its own.
-  double inertial_contact = 0.0;
-  // Its power of 1/(ν_c - ν): σ_yy,IC = ρ_p (a_c d γ̇)² (ν_c - ν)^-m (steady.inertial_contact_power;
-  // 2 is φ = φ_c - a I).
-  double inertial_contact_power = 2.0;
   // Stress state of the skeleton on its critical state in simple shear (steady.skeleton_stress):
   // false (`lode_zero`): σ_xx = σ_yy = σ_zz = p_FC, τ_FC/σ_yy = M(θ=0)/√3 (closed form, fast);
   // true (`force_chain_model`): the state the force-chain model itself reaches in simple shear

@@ -24,8 +24,8 @@ namespace granflow::transient_pair {
 namespace {
 
 // Top-level keys of a transient pair case that the DEM part does not read.
-constexpr const char* continuum_sections[] = {"collisional", "force_chains", "continuum", "calibrate",
-                                              "dem_run"};
+constexpr const char* continuum_sections[] = {"collisional", "force_chains", "continuum",
+                                              "calibrate", "dem_run"};
 
 // The DEM case of a transient pair case: the same file without the continuum-only sections,
 // kind: dem. `schema` must outlive the returned Case (it refers to it).
@@ -79,8 +79,7 @@ void write_dem_band(core::RunContext& ctx, const std::filesystem::path& dem_h5, 
       const std::string name = std::string(row.column.name) + part;
       ctx.result.write(group + "/dem/" + name, core::read_dataset(dem_h5, from + name),
                        row.column.unit,
-                       core::read_string_attribute(dem_h5, from + name, "description") +
-                           " (DEM)");
+                       core::read_string_attribute(dem_h5, from + name, "description") + " (DEM)");
     }
 }
 
@@ -106,7 +105,8 @@ bool compare(core::RunContext& ctx, const core::Case& condition, const DemTransi
       suffix.empty() ? "continuum" : "continuum with the fitted force-chain parameters";
   const std::pair<core::Column, const std::vector<double>&> series[] = {
       {col::strain, s.strain},
-      {col::described(col::mean_stress, "mean stress p' = p_COL + tr(σ_FC)/3 (the DEM's tr(P)/3)"),
+      {col::described(col::mean_stress,
+                      "mean stress p' = p_COL + p_IC + tr(σ_FC)/3 (the DEM's tr(P)/3)"),
        s.pressure},
       {col::normal_stress, s.normal_stress},
       {col::shear_stress, s.shear_stress},
@@ -164,8 +164,8 @@ bool compare(core::RunContext& ctx, const core::Case& condition, const DemTransi
   // The residual τ against the DEM's seed band: its seed mean ± 2 standard errors (between
   // seeds) or ± 2 batch-means errors of the mean series' tail, whichever is larger.
   const auto seed_err = dem.metric_err.find("residual_tau");
-  const double band_err = std::max(dem_m.residual_tau_err,
-                                   seed_err != dem.metric_err.end() ? seed_err->second : 0.0);
+  const double band_err =
+      std::max(dem_m.residual_tau_err, seed_err != dem.metric_err.end() ? seed_err->second : 0.0);
   const bool within = std::abs(cont_m.residual_tau - dem_m.residual_tau) <= 2.0 * band_err;
   if (suffix.empty()) sum.set(metric_key("dem", "residual_tau_band", g), band_err);
   sum.set(metric_key(cont, "residual_tau_within_band", g), within ? 1 : 0);
@@ -173,9 +173,9 @@ bool compare(core::RunContext& ctx, const core::Case& condition, const DemTransi
       "condition {}{} (φ0 = {:.4f}, p0 = {:.4g} Pa, γ̇ = {:g} 1/s): peak τ DEM {:.4g} Pa at γ = "
       "{:.3g}, continuum {:.4g} Pa at {:.3g} ({:+.1f} %); liquefied: DEM {}, continuum {}; "
       "residual τ DEM {:.4g} ± {:.2g} Pa, continuum {:.4g} Pa{}",
-      index, suffix.empty() ? "" : " calibrated", dem.phi0, dem.p0,
-      condition.number("shear_rate"), dem_m.peak_tau, dem_m.peak_strain, cont_m.peak_tau,
-      cont_m.peak_strain, 100.0 * relative_error(cont_m.peak_tau, dem_m.peak_tau),
+      index, suffix.empty() ? "" : " calibrated", dem.phi0, dem.p0, condition.number("shear_rate"),
+      dem_m.peak_tau, dem_m.peak_strain, cont_m.peak_tau, cont_m.peak_strain,
+      100.0 * relative_error(cont_m.peak_tau, dem_m.peak_tau),
       liq_dem ? fmt::format("at γ = {:.3g}", dem_m.liquefaction_strain) : std::string("no"),
       liq_cont ? fmt::format("at γ = {:.3g}", cont_m.liquefaction_strain) : std::string("no"),
       dem_m.residual_tau, 2.0 * band_err, cont_m.residual_tau,
@@ -201,7 +201,8 @@ void check_dem_run(const core::Case& c) {
                                   dir.string(), why));
   };
   if (!std::filesystem::is_directory(dir)) expected("not a directory");
-  if (!std::filesystem::exists(dir / "case.yaml") || core::peek_kind(dir / "case.yaml").first != "dem")
+  if (!std::filesystem::exists(dir / "case.yaml") ||
+      core::peek_kind(dir / "case.yaml").first != "dem")
     expected("its case.yaml is not kind: dem");
   core::KindRegistry registry;
   const auto& entry = dem_entry(registry, c);
@@ -218,9 +219,10 @@ void check_dem_run(const core::Case& c) {
       core::read_number_attribute(dir / "result.h5", fmt::format("/transient/group_{}", g),
                                   "mean_phi0");
     } catch (const std::exception&) {
-      expected(fmt::format("its result.h5 has no /transient/group_{} (started from "
-                           "start.preparation, finished)",
-                           g));
+      expected(
+          fmt::format("its result.h5 has no /transient/group_{} (started from "
+                      "start.preparation, finished)",
+                      g));
     }
   }
 }
@@ -312,7 +314,7 @@ int run_transient_pair_case(core::RunContext& ctx) {
   const core::Case& c = ctx.run_case;
   auto& log = *ctx.log;
   std::filesystem::path h5;
-  if (c.has("dem_run")) {  // ---- DEM side: a finished run
+  if (c.has("dem_run")) {                             // ---- DEM side: a finished run
     if (!core::owns_outputs()) return core::exit_ok;  // mpirun: nothing to share, rank 0 fits
     h5 = dem_run_directory(c) / "result.h5";
     log.info("DEM part: the finished run {} (not run again)", h5.parent_path().string());
@@ -422,10 +424,13 @@ int run_transient_pair_case(core::RunContext& ctx) {
 }
 
 void register_transient_pair_kinds(core::KindRegistry& registry) {
-  core::KindEntry entry{"transient_pair", "",
+  core::KindEntry entry{"transient_pair",
+                        "",
                         "undrained shear from rest, DEM and continuum side by side (one material)",
-                        transient_pair_schema(), check_transient_pair_case,
-                        run_transient_pair_case, "cases/transient_pair/undrained_loose.yaml"};
+                        transient_pair_schema(),
+                        check_transient_pair_case,
+                        run_transient_pair_case,
+                        "cases/transient_pair/undrained_loose.yaml"};
   entry.check_inputs = check_transient_pair_inputs;
   entry.distributes_conditions = true;
   registry.add(std::move(entry));

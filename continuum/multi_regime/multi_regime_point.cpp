@@ -1,12 +1,24 @@
 #include "continuum/multi_regime/multi_regime_point.hpp"
 
 #include <cmath>
+#include <stdexcept>
+
+#include "continuum/model/force_chains/critical_state_lade_duncan.hpp"
 
 namespace granflow::continuum {
 
 MultiRegimePoint::MultiRegimePoint(MultiRegimeSettings settings) : settings_(std::move(settings)) {
   if (!settings_.liquid) settings_.fluctuation_dissipation = false;
   if (settings_.force_chains) force_chain_model_.emplace(settings_.force_chain_parameters);
+  // Plane strain, isochoric flow coaxial with D (cos 3θ = 0): τ/σ_yy = M(θ = 0)/√3 on the
+  // Lade-Duncan critical state locus.
+  if (settings_.inertial_contact_friction > 0.0)
+    inertial_contact_friction_ = settings_.inertial_contact_friction;
+  else if (settings_.inertial_contact != 0.0)
+    inertial_contact_friction_ =
+        model::force_chains::CriticalStateLadeDuncan(settings_.force_chain_parameters)
+            .stress_ratio(0.0) /
+        std::sqrt(3.0);
 }
 
 PointState MultiRegimePoint::initial_state(double void_ratio, double effective_pressure, double ocr,
@@ -36,6 +48,16 @@ StressParts MultiRegimePoint::advance(PointState& state, const Eigen::Matrix3d& 
   parts.force_chain = state.force_chains.stress;
   parts.force_chain_update = info;
   return parts;
+}
+
+double MultiRegimePoint::inertial_contact_pressure(double solid_fraction, double shear_rate) const {
+  if (settings_.inertial_contact == 0.0) return 0.0;
+  const auto& p = settings_.collisional_parameters;
+  const double gap = model::maximum_solid_fraction(p) - solid_fraction;
+  if (!(gap > 0))
+    throw std::domain_error("inertial contact stress: solid fraction at or above jamming");
+  const double scale = settings_.inertial_contact * p.diameter * shear_rate;
+  return p.particle_density * scale * scale * std::pow(gap, -settings_.inertial_contact_power);
 }
 
 double MultiRegimePoint::shear_rate(const Eigen::Matrix3d& strain_rate) {
@@ -83,6 +105,16 @@ StressParts MultiRegimePoint::evaluate(const PointState& state,
           model::liquid_fluctuation_dissipation(l, p.diameter, nu, c.g0, 1.0);
       k.c += lambda_over_T / (3.0 * nu * p.particle_density);
     }
+  }
+  if (settings_.inertial_contact != 0.0) {
+    // σ_IC = p_IC I + 2 η_IC ε̇', η_IC = μ_IC p_IC / γ̇ (in simple shear τ_IC = μ_IC p_IC); its
+    // work is dissipated by the contacts and does not feed T.
+    const double gamma_dot = std::sqrt(2.0 * deviator_norm2);
+    parts.inertial_contact_pressure = inertial_contact_pressure(nu, gamma_dot);
+    parts.inertial_contact = parts.inertial_contact_pressure * identity;
+    if (gamma_dot > 0)
+      parts.inertial_contact +=
+          2.0 * inertial_contact_friction_ * parts.inertial_contact_pressure / gamma_dot * deviator;
   }
   if (settings_.liquid) {
     // σ_L deviator = 2 η(ν) dev(ε̇_L) (seed Eq. 27); the pore pressure u_w is the driver's.

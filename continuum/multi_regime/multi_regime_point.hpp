@@ -27,6 +27,16 @@ struct MultiRegimeSettings {
   bool collisional = true;               // σ_COL, Γ and the T balance
   bool liquid = false;                   // σ_L viscous part, η(ν)
   bool fluctuation_dissipation = false;  // Λ (needs liquid)
+  // σ_IC, the contacts' stress of dense inertial flow of rigid grains (collisional.inertial_contact
+  // a_c, _power m; docs/model/closures.md "The contacts' dense inertial stress"):
+  //   p_IC = ρ_p (a_c d γ̇)² (ν_c - ν)^-m,   σ_IC = p_IC I + 2 (μ_IC p_IC / γ̇) ε̇',
+  // ν_c the jamming fraction of g0, μ_IC the contacts' friction (collisional.
+  // inertial_contact_friction; 0: the force chains' critical state friction in plane strain,
+  // M(θ = 0)/√3 of force_chain_parameters). a_c = 0 switches it off (the seed's model) and costs
+  // one branch.
+  double inertial_contact = 0.0;
+  double inertial_contact_power = 2.0;
+  double inertial_contact_friction = 0.0;
   model::CollisionalParameters collisional_parameters;
   model::LiquidParameters liquid_parameters;
   model::force_chains::ForceChainParameters force_chain_parameters;
@@ -45,18 +55,22 @@ struct StressParts {
   Eigen::Matrix3d force_chain = Eigen::Matrix3d::Zero();  // σ_FC = σ' (effective stress)
   Eigen::Matrix3d collisional = Eigen::Matrix3d::Zero();
   Eigen::Matrix3d liquid = Eigen::Matrix3d::Zero();
-  double collisional_pressure = 0;                     // p_COL, Pa
-  double collisional_viscosity = 0;                    // ρ_p d f2 T^½, Pa s
-  double mixture_viscosity = 0;                        // η(ν), Pa s
-  double correlation_length = 0;                       // L, m
-  double collisional_dissipation = 0;                  // Γ, W/m³
-  double liquid_dissipation = 0;                       // Λ, W/m³
-  double collisional_power = 0;                        // σ_COL : ε̇, W/m³
-  RiccatiCoefficients temperature_equation;            // coefficients of ds/dt, s = T^½
+  Eigen::Matrix3d inertial_contact = Eigen::Matrix3d::Zero();  // σ_IC (zero when a_c = 0)
+  double collisional_pressure = 0;                             // p_COL, Pa
+  double inertial_contact_pressure = 0;                        // p_IC, Pa
+  double collisional_viscosity = 0;                            // ρ_p d f2 T^½, Pa s
+  double mixture_viscosity = 0;                                // η(ν), Pa s
+  double correlation_length = 0;                               // L, m
+  double collisional_dissipation = 0;                          // Γ, W/m³
+  double liquid_dissipation = 0;                               // Λ, W/m³
+  double collisional_power = 0;                                // σ_COL : ε̇, W/m³
+  RiccatiCoefficients temperature_equation;                    // coefficients of ds/dt, s = T^½
   model::force_chains::UpdateInfo force_chain_update;  // of the last advance() (diagnostics)
 
-  // σ_FC + σ_COL + σ_L without the pore pressure u_w (the driver adds u_w I).
-  Eigen::Matrix3d total_without_pore_pressure() const { return force_chain + collisional + liquid; }
+  // σ_FC + σ_IC + σ_COL + σ_L without the pore pressure u_w (the driver adds u_w I).
+  Eigen::Matrix3d total_without_pore_pressure() const {
+    return force_chain + inertial_contact + collisional + liquid;
+  }
 };
 
 class MultiRegimePoint {
@@ -92,6 +106,11 @@ class MultiRegimePoint {
     return force_chain_model_ ? &*force_chain_model_ : nullptr;
   }
 
+  // p_IC = ρ_p (a_c d γ̇)² (ν_c - ν)^-m, Pa (0 with a_c = 0). Throws std::domain_error at ν >= ν_c.
+  double inertial_contact_pressure(double solid_fraction, double shear_rate) const;
+  // μ_IC = M(θ = 0)/√3 of the force chains' critical state (τ_IC = μ_IC p_IC in simple shear).
+  double inertial_contact_friction() const { return inertial_contact_friction_; }
+
   // Shear rate γ̇ = 2 sqrt(ε̇':ε̇' / 2)... for simple shear ε̇_xy = γ̇/2 gives γ̇.
   static double shear_rate(const Eigen::Matrix3d& strain_rate);
 
@@ -99,6 +118,7 @@ class MultiRegimePoint {
 
  private:
   MultiRegimeSettings settings_;
+  double inertial_contact_friction_ = 0.0;  // μ_IC
   std::optional<model::force_chains::ForceChainModel> force_chain_model_;
 };
 

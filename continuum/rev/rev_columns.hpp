@@ -41,8 +41,8 @@ namespace c = core::columns;
 
 inline constexpr core::Column grain_pressure{
     "grain_pressure", "Pa",
-    "pressure p on the grains that μ and I use: σ_yy (constant_pressure), p_COL + p' "
-    "(constant_volume)"};
+    "pressure p on the grains that μ and I use: σ_yy (constant_pressure), p_COL + p_IC + "
+    "p' (constant_volume)"};
 inline constexpr core::Column collisional_shear_stress{"collisional_shear_stress", "Pa",
                                                        "collisional shear stress τ_COL"};
 inline constexpr core::Column liquid_shear_stress{"liquid_shear_stress", "Pa",
@@ -56,7 +56,7 @@ inline constexpr RevSeriesColumn simple_shear_series[] = {
     {c::void_ratio, &SimpleShearSeries::void_ratio},
     {described(c::solid_fraction, "solid fraction ν"), &SimpleShearSeries::solid_fraction},
     {grain_pressure, &SimpleShearSeries::pressure},
-    {described(c::shear_stress, "shear stress τ = τ_FC + τ_COL + τ_L"),
+    {described(c::shear_stress, "shear stress τ = τ_FC + τ_IC + τ_COL + τ_L"),
      &SimpleShearSeries::shear_stress},
     {collisional_shear_stress, &SimpleShearSeries::collisional_shear_stress},
     {liquid_shear_stress, &SimpleShearSeries::liquid_shear_stress},
@@ -67,13 +67,16 @@ inline constexpr RevSeriesColumn simple_shear_series[] = {
     {{"effective_pressure", "Pa", "effective pressure p' = p_FC of the force chains"},
      &SimpleShearSeries::effective_pressure},
     {c::locus_size, &SimpleShearSeries::locus_size},
-    {described(c::normal_stress, "σ_yy = σ_yy,FC + σ_yy,COL + σ_yy,L"),
+    {described(c::normal_stress, "σ_yy = σ_yy,FC + σ_yy,IC + σ_yy,COL + σ_yy,L"),
      &SimpleShearSeries::normal_stress},
     {{"force_chain_normal_stress", "Pa", "σ_yy,FC"}, &SimpleShearSeries::force_chain_normal_stress},
     {{"collisional_pressure", "Pa", "collisional pressure p_COL"},
      &SimpleShearSeries::collisional_pressure},
     {{"vertical_strain_rate", "1/s", "ε̇_yy (compression positive; mixed control only, else 0)"},
      &SimpleShearSeries::vertical_strain_rate},
+    {{"inertial_contact_pressure", "Pa",
+      "the contacts' dense inertial pressure p_IC (collisional.inertial_contact; 0 when off)"},
+     &SimpleShearSeries::inertial_contact_pressure},
 };
 
 inline constexpr RevSteadyColumn simple_shear_steady[] = {
@@ -84,7 +87,7 @@ inline constexpr RevSteadyColumn simple_shear_steady[] = {
     {described(c::scaled_temperature, "T / (d γ̇)², d the grain diameter"),
      &SimpleShearRow::scaled_temperature},
     {grain_pressure, &SimpleShearRow::grain_pressure},
-    {described(c::normal_stress, "σ_yy = σ_yy,FC + σ_yy,COL + σ_yy,L"),
+    {described(c::normal_stress, "σ_yy = σ_yy,FC + σ_yy,IC + σ_yy,COL + σ_yy,L"),
      &SimpleShearRow::normal_stress},
     {c::shear_stress, &SimpleShearRow::shear_stress},
     {collisional_shear_stress, &SimpleShearRow::collisional_shear_stress},

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <optional>
 
-#include "continuum/sections/model_sections.hpp"
 #include "continuum/rev/rev_columns.hpp"
 #include "continuum/rev/simple_shear.hpp"
+#include "continuum/sections/model_sections.hpp"
 #include "core/sweep_scheduler.hpp"
 
 namespace granflow::rev {
@@ -203,12 +203,26 @@ int run_simple_shear_case(core::RunContext& ctx) {
     }
     core::Packer packed;
     const auto& ts = r.series;
-    for (const auto* v :
-         {&ts.time, &ts.strain, &ts.time_step, &ts.granular_temperature, &ts.void_ratio,
-          &ts.solid_fraction, &ts.pressure, &ts.shear_stress, &ts.collisional_shear_stress,
-          &ts.liquid_shear_stress, &ts.friction, &ts.inertial_number, &ts.force_chain_shear_stress,
-          &ts.effective_pressure, &ts.locus_size, &ts.normal_stress, &ts.force_chain_normal_stress,
-          &ts.collisional_pressure, &ts.vertical_strain_rate})
+    for (const auto* v : {&ts.time,
+                          &ts.strain,
+                          &ts.time_step,
+                          &ts.granular_temperature,
+                          &ts.void_ratio,
+                          &ts.solid_fraction,
+                          &ts.pressure,
+                          &ts.shear_stress,
+                          &ts.collisional_shear_stress,
+                          &ts.liquid_shear_stress,
+                          &ts.friction,
+                          &ts.inertial_number,
+                          &ts.force_chain_shear_stress,
+                          &ts.effective_pressure,
+                          &ts.locus_size,
+                          &ts.normal_stress,
+                          &ts.force_chain_normal_stress,
+                          &ts.collisional_pressure,
+                          &ts.vertical_strain_rate,
+                          &ts.inertial_contact_pressure})
       packed.numbers(*v);
     const auto& st = r.steady;
     packed.integer(st.reached ? 1 : 0);
@@ -256,12 +270,26 @@ int run_simple_shear_case(core::RunContext& ctx) {
     core::Unpacker packed(bytes);
     SimpleShearResult r;
     auto& ts = r.series;
-    for (auto* v :
-         {&ts.time, &ts.strain, &ts.time_step, &ts.granular_temperature, &ts.void_ratio,
-          &ts.solid_fraction, &ts.pressure, &ts.shear_stress, &ts.collisional_shear_stress,
-          &ts.liquid_shear_stress, &ts.friction, &ts.inertial_number, &ts.force_chain_shear_stress,
-          &ts.effective_pressure, &ts.locus_size, &ts.normal_stress, &ts.force_chain_normal_stress,
-          &ts.collisional_pressure, &ts.vertical_strain_rate})
+    for (auto* v : {&ts.time,
+                    &ts.strain,
+                    &ts.time_step,
+                    &ts.granular_temperature,
+                    &ts.void_ratio,
+                    &ts.solid_fraction,
+                    &ts.pressure,
+                    &ts.shear_stress,
+                    &ts.collisional_shear_stress,
+                    &ts.liquid_shear_stress,
+                    &ts.friction,
+                    &ts.inertial_number,
+                    &ts.force_chain_shear_stress,
+                    &ts.effective_pressure,
+                    &ts.locus_size,
+                    &ts.normal_stress,
+                    &ts.force_chain_normal_stress,
+                    &ts.collisional_pressure,
+                    &ts.vertical_strain_rate,
+                    &ts.inertial_contact_pressure})
       *v = packed.numbers();
     auto& s = r.steady;
     s.reached = packed.integer() != 0;
@@ -437,10 +465,14 @@ int run_simple_shear_case(core::RunContext& ctx) {
 }  // namespace
 
 void register_rev_kinds(core::KindRegistry& registry) {
-  core::KindEntry entry{"rev", "simple_shear",
-                        "steady homogeneous simple shear of a material point (collisional + liquid)",
-                        simple_shear_schema(), check_simple_shear, run_simple_shear_case,
-                        "cases/rev/simple_shear_dry.yaml"};
+  core::KindEntry entry{
+      "rev",
+      "simple_shear",
+      "steady homogeneous simple shear of a material point (collisional + liquid)",
+      simple_shear_schema(),
+      check_simple_shear,
+      run_simple_shear_case,
+      "cases/rev/simple_shear_dry.yaml"};
   entry.distributes_conditions = true;
   registry.add(std::move(entry));
   register_element_test_kinds(registry);

@@ -15,9 +15,7 @@ namespace granflow::rev {
 namespace {
 
 // Share of a part in a total (0 when the total is 0).
-double share(double part, double total) {
-  return total != 0.0 && part != 0.0 ? part / total : 0.0;
-}
+double share(double part, double total) { return total != 0.0 && part != 0.0 ? part / total : 0.0; }
 
 // χ = f1² / (1.5 ν² df1/dν): the volumetric work of a constant-pressure point per unit of its
 // granular heat capacity (see run_simple_shear). df1/dν by a central difference.
@@ -35,12 +33,14 @@ double compaction_capacity(const continuum::MultiRegimePoint& point, double nu) 
 }  // namespace
 
 double solid_fraction_at_pressure(const continuum::MultiRegimePoint& point, double pressure,
-                                  double granular_temperature) {
+                                  double granular_temperature, double shear_rate) {
   const auto& p = point.settings().collisional_parameters;
   double lo = 1e-9, hi = model::maximum_solid_fraction(p) - 1e-13;
+  // p_COL(ν, T) + p_IC(ν, γ̇) (the second 0 unless collisional.inertial_contact > 0)
   const auto p_col = [&](double nu) {
     return model::collisional_pressure(p, model::collisional_coefficients(p, nu),
-                                       granular_temperature);
+                                       granular_temperature) +
+           point.inertial_contact_pressure(nu, shear_rate);
   };
   // No root in the bracket: the point cannot carry p (too cold even at jamming, or too hot
   // even when dilute). The caller reports it.
@@ -91,19 +91,19 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
     // The skeleton takes what p_COL(ν0, T0) leaves of p: σ_yy = p from the first step on.
     const auto& col = settings.collisional_parameters;
     const double nu0 = 1.0 / (1.0 + control.void_ratio);
-    const double p_col0 =
-        settings.collisional
-            ? model::collisional_pressure(col, model::collisional_coefficients(col, nu0),
-                                          control.initial_temperature)
-            : 0.0;
-    effective_pressure = std::max(control.normal_stress - p_col0, 0.0);
+    const double p_col0 = settings.collisional ? model::collisional_pressure(
+                                                     col, model::collisional_coefficients(col, nu0),
+                                                     control.initial_temperature)
+                                               : 0.0;
+    const double p_ic0 = point.inertial_contact_pressure(nu0, gamma_dot);
+    effective_pressure = std::max(control.normal_stress - p_col0 - p_ic0, 0.0);
   }
   continuum::PointState state =
       point.initial_state(control.void_ratio, effective_pressure, control.overconsolidation,
                           control.initial_temperature);
   if (constant_pressure && !mixed_control)
-    state.solid_fraction =
-        solid_fraction_at_pressure(point, control.normal_stress, state.granular_temperature);
+    state.solid_fraction = solid_fraction_at_pressure(point, control.normal_stress,
+                                                      state.granular_temperature, gamma_dot);
   result = SimpleShearResult{};
   if (std::isnan(state.solid_fraction))
     throw core::NumericalFailure(0, "REV point", "solid_fraction", state.solid_fraction,
@@ -172,8 +172,8 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
                            : point.update(state, rate, dt, heat_capacity_factor);
     }
     if (constant_pressure && !mixed_control) {
-      state.solid_fraction =
-          solid_fraction_at_pressure(point, control.normal_stress, state.granular_temperature);
+      state.solid_fraction = solid_fraction_at_pressure(point, control.normal_stress,
+                                                        state.granular_temperature, gamma_dot);
       if (std::isnan(state.solid_fraction))
         throw core::NumericalFailure(
             step, "REV point", "solid_fraction", state.solid_fraction,
@@ -193,11 +193,14 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
     core::check_finite(nu, step, "REV point", "solid_fraction", true);
     const double tau_col = -parts.collisional(0, 1), tau_liq = -parts.liquid(0, 1);
     const double tau_fc = 0.0 - parts.force_chain(0, 1);
-    const double tau = tau_col + tau_liq + tau_fc;
+    const double tau_ic = -parts.inertial_contact(0, 1);
+    const double tau = tau_col + tau_liq + tau_fc + tau_ic;
     const double p_eff = parts.force_chain.trace() / 3.0;
     const Eigen::Matrix3d total = parts.total_without_pore_pressure();
     // constant pressure: the normal stress σ_yy (= p_COL without force chains, exactly)
-    const double p = constant_pressure ? total(1, 1) : parts.collisional_pressure + p_eff;
+    const double p = constant_pressure
+                         ? total(1, 1)
+                         : parts.collisional_pressure + parts.inertial_contact_pressure + p_eff;
     core::check_finite(tau, step, "REV point", "shear_stress");
     series.time.push_back(time);
     series.strain.push_back(strain);
@@ -218,6 +221,7 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
     series.force_chain_normal_stress.push_back(parts.force_chain(1, 1));
     series.collisional_pressure.push_back(parts.collisional_pressure);
     series.vertical_strain_rate.push_back(vertical_strain_rate);
+    series.inertial_contact_pressure.push_back(parts.inertial_contact_pressure);
     result.steps = step;
 
     // Steady: relative change of T and ν per unit strain below the tolerance for 5 steps.
@@ -245,8 +249,8 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
       }
       quiet_steps = quiet_windows >= 3 ? 5 : 0;
     } else {
-      quiet_steps = (!settings.collisional || change < control.steady_tolerance) ? quiet_steps + 1
-                                                                                : 0;
+      quiet_steps =
+          (!settings.collisional || change < control.steady_tolerance) ? quiet_steps + 1 : 0;
     }
     if (progress && step % 1000 == 0) progress(strain);
     // SIGINT/SIGTERM: stop here with the state so far (steady.reached says whether it was).

@@ -41,10 +41,11 @@ struct SimpleShearSeries {
   std::vector<double> time, strain, time_step, granular_temperature, void_ratio, solid_fraction,
       pressure, shear_stress, collisional_shear_stress, liquid_shear_stress, friction,
       inertial_number, force_chain_shear_stress, effective_pressure, locus_size;
-  // σ_yy of the grains (σ_FC + σ_COL + σ_L), its σ_FC part, p_COL and ε̇_yy (compression
-  // positive; 0 except at constant pressure with force chains).
+  // σ_yy of the grains (σ_FC + σ_IC + σ_COL + σ_L), its σ_FC part, p_COL, ε̇_yy (compression
+  // positive; 0 except at constant pressure with force chains) and the contacts' dense inertial
+  // pressure p_IC (0 unless collisional.inertial_contact > 0; its shear part μ_IC p_IC is in τ).
   std::vector<double> normal_stress, force_chain_normal_stress, collisional_pressure,
-      vertical_strain_rate;
+      vertical_strain_rate, inertial_contact_pressure;
 };
 
 struct SimpleShearSteady {
@@ -96,8 +97,9 @@ struct InertialNumberBound {
 };
 InertialNumberBound maximum_steady_inertial_number(const model::CollisionalParameters& p);
 
-// Solid fraction at which p_COL(ν, T) = p (bisection; p_COL increases with ν).
+// Solid fraction at which p_COL(ν, T) + p_IC(ν, γ̇) = p (bisection; both increase with ν; p_IC is
+// the contacts' dense inertial pressure, 0 unless collisional.inertial_contact > 0).
 double solid_fraction_at_pressure(const continuum::MultiRegimePoint& point, double pressure,
-                                  double granular_temperature);
+                                  double granular_temperature, double shear_rate);
 
 }  // namespace granflow::rev

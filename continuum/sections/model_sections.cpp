@@ -57,6 +57,23 @@ core::Field collisional_section() {
       .default_value("1.5")
       .greater_than(0)
       .at_most(4);
+  c.number("inertial_contact", "",
+           "a_c: the contacts' stress of dense inertial flow of rigid grains, p_IC = "
+           "ρ_p (a_c d γ̇)² (ν_c - ν)^-m, sheared at the force chains' critical state friction "
+           "(granflow's own term after φ = φ_c - a I of GDR MiDi 2004 and da Cruz et al. 2005; "
+           "the steady model shears it at μ_FC with its friction rise; 0 = off, the seed's model)")
+      .default_value("0")
+      .at_least(0);
+  c.number("inertial_contact_power", "",
+           "m: the contacts' dense inertial stress grows as (ν_c - ν)^-m (2: φ = φ_c - a I)")
+      .default_value("2")
+      .greater_than(0);
+  c.number("inertial_contact_friction", "",
+           "μ_IC: the friction that shears the contacts' dense inertial stress, τ_IC = μ_IC p_IC; "
+           "0 = the force chains' own (the steady model's μ_FC with its rise, M(θ=0)/√3 in the "
+           "REV and the MPM)")
+      .default_value("0")
+      .at_least(0);
   return c;
 }
 
@@ -197,17 +214,6 @@ core::Field steady_section() {
            "critical state)")
       .default_value("0")
       .at_least(0);
-  s.number(
-       "inertial_contact", "",
-       "a_c: the contacts' normal stress of dense inertial flow of rigid grains, "
-       "ρ_p (a_c d γ̇)² (ν_c - ν)^-m, sheared at μ_FC (granflow's own term after φ = φ_c - a I of "
-       "GDR MiDi 2004 and da Cruz et al. 2005; 0 = the seed's model)")
-      .default_value("0")
-      .at_least(0);
-  s.number("inertial_contact_power", "",
-           "m: the contacts' dense inertial stress grows as (ν_c - ν)^-m (2: φ = φ_c - a I)")
-      .default_value("2")
-      .greater_than(0);
   s.number("friction_rise_I0", "", "I_0 of the force chains' friction rise")
       .default_value("0.3")
       .greater_than(0);
@@ -286,6 +292,9 @@ MultiRegimeSettings read_multi_regime_settings(const core::Case& c) {
   col.correlation_length_constant = c.number("collisional.correlation_length_constant");
   col.correlation_length_onset = c.number("collisional.correlation_length_onset");
   col.correlation_length_exponent = c.number("collisional.correlation_length_exponent");
+  s.inertial_contact = c.number("collisional.inertial_contact");
+  s.inertial_contact_power = c.number("collisional.inertial_contact_power");
+  s.inertial_contact_friction = c.number("collisional.inertial_contact_friction");
 
   auto& liq = s.liquid_parameters;
   s.liquid = c.boolean("liquid.enabled");
