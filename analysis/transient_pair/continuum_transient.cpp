@@ -86,11 +86,13 @@ TransientFit fit_force_chains(const core::Case& condition, const core::Schema& s
   };
   Eigen::VectorXd start(Eigen::Index(names.size()));
   std::vector<statistics::ParameterBounds> bounds;
+  // calibrate.range (20 by default) either way of the case's value: the constitutive parameters
+  // are positive and the model's response to them is smooth only over a bounded range.
+  const double range = condition.number("calibrate.range");
   for (std::size_t j = 0; j < names.size(); ++j) {
     start[Eigen::Index(j)] = out.start[j];
-    // A factor 20 either way of the case's value: the constitutive parameters are positive and
-    // the model's response to them is smooth only over such a range.
-    bounds.push_back(statistics::ParameterBounds::between(out.start[j] / 20, out.start[j] * 20));
+    bounds.push_back(
+        statistics::ParameterBounds::between(out.start[j] / range, out.start[j] * range));
   }
   statistics::LeastSquaresOptions options;
   // The REV's stress integration is accurate to its sub-step tolerance (1e-5 relative), so the

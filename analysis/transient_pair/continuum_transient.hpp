@@ -42,7 +42,8 @@ struct TransientFit {
   bool converged = false;
 };
 
-// Fits force_chains.NAME (each > 0; the fit works in ln θ) so that the continuum's p'(γ) and
+// Fits force_chains.NAME (each > 0, within calibrate.range of its case value; the fit works in
+// ln θ) so that the continuum's p'(γ) and
 // τ(γ), interpolated linearly at the DEM's strains, match the DEM's seed means, weighted by
 // σ = max(half the seed band, 0.01 p0) (the band is the seed-to-seed spread; the floor keeps one
 // seed, or a band that closes, from dominating):

@@ -257,6 +257,10 @@ core::Schema transient_pair_schema() {
              "force_chains keys to fit (e.g. xi_psi beta_f), separated by spaces; none: no fit")
       .default_value("none");
   cal.integer("condition", "the condition (in sweep order) fitted").default_value("0").at_least(0);
+  cal.number("range", "",
+             "each fitted parameter stays within [v/range, v × range] of the case's value v")
+      .default_value("20")
+      .greater_than(1);
   s.string("dem_run",
            "optional: a finished kind: dem run of this case's DEM part (the same conditions, from "
            "start.preparation) whose transients are used instead of running the DEM again "

@@ -38,7 +38,8 @@ preparation:
 )";
 
 // The critical state line of cases/rev/materials/dem_spheres_force_chains.yaml (the steady
-// calibration's, as are the elastic and fluidization keys below): e_cs(p) = e_Γ − λ_c (p/p_ref)^ξ_c with ξ_c = 1.
+// calibration's, as are the elastic and fluidization keys below): e_cs(p) = e_Γ − λ_c (p/p_ref)^ξ_c
+// with ξ_c = 1.
 constexpr double e_gamma = 1.07, lambda_c = 0.43, p_ref = 100.0;
 
 std::string pair_case(const std::filesystem::path& prepared) {
@@ -136,9 +137,9 @@ TEST(TransientPair, LoosePackingInTheDemAndTheContinuum) {
   EXPECT_DOUBLE_EQ(s.get("transient.dem.peak_tau"), dem.get("transient.peak_tau"));
   EXPECT_TRUE(std::filesystem::exists(dir / "run" / "transient_pair.png"));
   // The DEM's band is in the pair's own file, the same numbers as the DEM run's.
-  EXPECT_EQ(core::read_dataset(h5, "/transient_pair/group_0/dem/mean_stress_mean"),
-            core::read_dataset(dir / "run" / "dem" / "result.h5",
-                               "/transient/group_0/mean_stress_mean"));
+  EXPECT_EQ(
+      core::read_dataset(h5, "/transient_pair/group_0/dem/mean_stress_mean"),
+      core::read_dataset(dir / "run" / "dem" / "result.h5", "/transient/group_0/mean_stress_mean"));
 
   // The same pair from the finished DEM run (dem_run): the DEM is not run again and every
   // number is the same (the continuum is deterministic).
@@ -189,11 +190,10 @@ TEST(TransientPair, LoosePackingInTheDemAndTheContinuum) {
 // e0 = 0.667 (φ0 0.600, below the line at p0: dilative, p' rises from p0 = 100 Pa).
 TEST(TransientPair, ContinuumLiquefiesALooseSampleNotADenseOne) {
   const auto schema = transient_pair_schema();
-  const auto c = core::Case::parse(
-      pair_case("unused"), "tiny.yaml",
-      {"force_chains.e_Gamma=0.71", "force_chains.lambda_c=0.01", "collisional.jamming_fraction=0.62",
-       "strain.total=1"},
-      schema);
+  const auto c = core::Case::parse(pair_case("unused"), "tiny.yaml",
+                                   {"force_chains.e_Gamma=0.71", "force_chains.lambda_c=0.01",
+                                    "collisional.jamming_fraction=0.62", "strain.total=1"},
+                                   schema);
   const double p0 = 100.0;
   rev::SimpleShearResult loose, dense;
   continuum_transient(c, 0.5745, p0, loose);
@@ -246,9 +246,21 @@ TEST(TransientPair, FitRecoversTheParameterThatMadeTheTransient) {
   // The same model at the same strains: the optimum is exact up to the stress integration's
   // tolerance (1e-5 relative per sub-step) and the 1 % difference steps of the fit, so 1 %.
   EXPECT_NEAR(fit.estimate[0], 8.0, 0.08) << "after " << fit.evaluations << " REV runs";
-  std::printf("xi_psi %.6g after %d REV runs, chi2_red %.3g (start %.3g)\n", fit.estimate[0], fit.evaluations, fit.chi2_red, fit.chi2_initial);
+  std::printf("xi_psi %.6g after %d REV runs, chi2_red %.3g (start %.3g)\n", fit.estimate[0],
+              fit.evaluations, fit.chi2_red, fit.chi2_initial);
   EXPECT_LT(fit.chi2_red, 1e-2);
   EXPECT_GT(fit.chi2_initial, 100 * fit.chi2_red * (fit.points - 1));  // it did move
+
+  // calibrate.range bounds the search: within a factor 1.25 of 12 the truth (8) is out of reach,
+  // the fit ends on the bound 12/1.25 = 9.6 and says so.
+  const auto narrow =
+      core::Case::parse(pair_case("unused"), "tiny.yaml",
+                        {"force_chains.e_Gamma=0.71", "force_chains.lambda_c=0.01",
+                         "force_chains.xi_psi=12", "strain.total=0.15", "calibrate.range=1.25"},
+                        schema);
+  const auto bounded = fit_force_chains(narrow, schema, {"xi_psi"}, dem);
+  EXPECT_NEAR(bounded.estimate[0], 9.6, 1e-6);
+  EXPECT_TRUE(bounded.at_bound[0]);
 }
 
 TEST(TransientPair, NeedsAPreparationAndConstantVolume) {
