@@ -203,27 +203,8 @@ int run_simple_shear_case(core::RunContext& ctx) {
     }
     core::Packer packed;
     const auto& ts = r.series;
-    for (const auto* v : {&ts.time,
-                          &ts.strain,
-                          &ts.time_step,
-                          &ts.granular_temperature,
-                          &ts.void_ratio,
-                          &ts.solid_fraction,
-                          &ts.pressure,
-                          &ts.shear_stress,
-                          &ts.collisional_shear_stress,
-                          &ts.liquid_shear_stress,
-                          &ts.friction,
-                          &ts.inertial_number,
-                          &ts.force_chain_shear_stress,
-                          &ts.effective_pressure,
-                          &ts.locus_size,
-                          &ts.normal_stress,
-                          &ts.force_chain_normal_stress,
-                          &ts.collisional_pressure,
-                          &ts.vertical_strain_rate,
-                          &ts.inertial_contact_pressure})
-      packed.numbers(*v);
+    // every series of the column table (rev_columns.hpp), in its order
+    for (const auto& column : rev_columns::simple_shear_series) packed.numbers(ts.*column.values);
     const auto& st = r.steady;
     packed.integer(st.reached ? 1 : 0);
     for (double v : {st.strain,
@@ -270,27 +251,8 @@ int run_simple_shear_case(core::RunContext& ctx) {
     core::Unpacker packed(bytes);
     SimpleShearResult r;
     auto& ts = r.series;
-    for (auto* v : {&ts.time,
-                    &ts.strain,
-                    &ts.time_step,
-                    &ts.granular_temperature,
-                    &ts.void_ratio,
-                    &ts.solid_fraction,
-                    &ts.pressure,
-                    &ts.shear_stress,
-                    &ts.collisional_shear_stress,
-                    &ts.liquid_shear_stress,
-                    &ts.friction,
-                    &ts.inertial_number,
-                    &ts.force_chain_shear_stress,
-                    &ts.effective_pressure,
-                    &ts.locus_size,
-                    &ts.normal_stress,
-                    &ts.force_chain_normal_stress,
-                    &ts.collisional_pressure,
-                    &ts.vertical_strain_rate,
-                    &ts.inertial_contact_pressure})
-      *v = packed.numbers();
+    for (const auto& column : rev_columns::simple_shear_series)
+      ts.*column.values = packed.numbers();
     auto& s = r.steady;
     s.reached = packed.integer() != 0;
     for (double* v : {&s.strain,
