@@ -114,7 +114,7 @@ core::Schema calibrate_schema() {
              "fluctuation_dissipation_factor; with force_chains on also critical_void_ratio, "
              "critical_state_slope, critical_state_exponent, critical_stress_ratio, "
              "contact_production, friction_rise, friction_rise_I0, viscous_dilatancy, "
-             "inertial_contact, inertial_contact_power, inertial_contact_friction")
+             "inertial_contact, inertial_contact_power, inertial_contact_friction, viscous_contact")
       .required();
   fit.integer("max_evaluations", "largest number of residual evaluations of Levenberg-Marquardt")
       .default_value("4000")

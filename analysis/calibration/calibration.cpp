@@ -55,6 +55,8 @@ const std::vector<ParameterSpec>& parameter_specs() {
        "m of the contacts' dense inertial stress ∝ (ν_c - ν)^-m (2: φ = φ_c - a I)"},
       {"inertial_contact_friction", "collisional.inertial_contact_friction", 0.0, 3.0,
        "μ_IC, the friction of the contacts' dense inertial stress (start it above 0)"},
+      {"viscous_contact", "liquid.viscous_contact", 0.0, 1e4,
+       "b_v, the viscous scale b_v η0 γ̇ (ν_c - ν)^-m of the contacts' stress (start it above 0)"},
       {"viscous_dilatancy", "steady.viscous_dilatancy", 0.0, 10.0,
        "a_J of e_Γ + a_J √J (granflow's own, immersed; start it above 0)"},
   };
@@ -91,6 +93,7 @@ double parameter_value(const CalibratedModel& m, const std::string& name) {
   if (name == "inertial_contact") return m.settings.inertial_contact;
   if (name == "inertial_contact_power") return m.settings.inertial_contact_power;
   if (name == "inertial_contact_friction") return m.settings.inertial_contact_friction;
+  if (name == "viscous_contact") return m.settings.viscous_contact;
   return parameter_spec(name).lower;  // throws for unknown names
 }
 
@@ -132,6 +135,8 @@ void set_parameter(CalibratedModel& m, const std::string& name, double value) {
     m.settings.inertial_contact_power = value;
   else if (name == "inertial_contact_friction")
     m.settings.inertial_contact_friction = value;
+  else if (name == "viscous_contact")
+    m.settings.viscous_contact = value;
   else
     parameter_spec(name);  // throws
 }

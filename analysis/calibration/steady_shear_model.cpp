@@ -235,11 +235,9 @@ struct InParallel {
     return steady_sqrt_temperature_at(settings, factors, nu, shear_rate,
                                       production_per_pressure * p_fc);
   }
-  // σ_yy,IC(ν) = ρ_p (a_c d γ̇)² (ν_c - ν)^-m (MultiRegimeSettings::inertial_contact)
+  // σ_yy,IC(ν) = [ρ_p (a_c d γ̇)² + b_v η0 γ̇] (ν_c - ν)^-m (continuum::contact_pressure)
   double inertial_contact(double nu) const {
-    if (settings.inertial_contact == 0) return 0.0;
-    const double scale = settings.inertial_contact * d * shear_rate;
-    return rho_p * scale * scale * std::pow(nu_max - nu, -settings.inertial_contact_power);
+    return continuum::contact_pressure(settings, nu, shear_rate);
   }
   // σ_yy,FC(ν) + σ_yy,IC(ν) + p_COL(ν, s(ν)): the normal stress the state at ν carries
   double pressure(double nu) const {

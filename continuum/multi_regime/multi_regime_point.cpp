@@ -14,7 +14,7 @@ MultiRegimePoint::MultiRegimePoint(MultiRegimeSettings settings) : settings_(std
   // Lade-Duncan critical state locus.
   if (settings_.inertial_contact_friction > 0.0)
     inertial_contact_friction_ = settings_.inertial_contact_friction;
-  else if (settings_.inertial_contact != 0.0)
+  else if (contact_stress_on(settings_))
     inertial_contact_friction_ =
         model::force_chains::CriticalStateLadeDuncan(settings_.force_chain_parameters)
             .stress_ratio(0.0) /
@@ -50,14 +50,25 @@ StressParts MultiRegimePoint::advance(PointState& state, const Eigen::Matrix3d& 
   return parts;
 }
 
-double MultiRegimePoint::inertial_contact_pressure(double solid_fraction, double shear_rate) const {
-  if (settings_.inertial_contact == 0.0) return 0.0;
-  const auto& p = settings_.collisional_parameters;
+bool contact_stress_on(const MultiRegimeSettings& s) {
+  return s.inertial_contact != 0.0 || (s.liquid && s.viscous_contact != 0.0);
+}
+
+double contact_pressure(const MultiRegimeSettings& s, double solid_fraction, double shear_rate) {
+  if (!contact_stress_on(s)) return 0.0;
+  const auto& p = s.collisional_parameters;
   const double gap = model::maximum_solid_fraction(p) - solid_fraction;
   if (!(gap > 0))
-    throw std::domain_error("inertial contact stress: solid fraction at or above jamming");
-  const double scale = settings_.inertial_contact * p.diameter * shear_rate;
-  return p.particle_density * scale * scale * std::pow(gap, -settings_.inertial_contact_power);
+    throw std::domain_error("contacts' dense-flow stress: solid fraction at or above jamming");
+  const double scale = s.inertial_contact * p.diameter * shear_rate;
+  // inertial scale ρ_p (a_c d γ̇)², viscous scale b_v η0 γ̇ (Trulsson et al. 2012: K = J + α I²)
+  const double viscous =
+      s.liquid ? s.viscous_contact * s.liquid_parameters.viscosity * shear_rate : 0.0;
+  return (p.particle_density * scale * scale + viscous) * std::pow(gap, -s.inertial_contact_power);
+}
+
+double MultiRegimePoint::inertial_contact_pressure(double solid_fraction, double shear_rate) const {
+  return contact_pressure(settings_, solid_fraction, shear_rate);
 }
 
 double MultiRegimePoint::shear_rate(const Eigen::Matrix3d& strain_rate) {
@@ -106,7 +117,7 @@ StressParts MultiRegimePoint::evaluate(const PointState& state,
       k.c += lambda_over_T / (3.0 * nu * p.particle_density);
     }
   }
-  if (settings_.inertial_contact != 0.0) {
+  if (contact_stress_on(settings_)) {
     // σ_IC = p_IC I + 2 η_IC ε̇', η_IC = μ_IC p_IC / γ̇ (in simple shear τ_IC = μ_IC p_IC); its
     // work is dissipated by the contacts and does not feed T.
     const double gamma_dot = std::sqrt(2.0 * deviator_norm2);

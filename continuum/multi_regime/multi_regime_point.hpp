@@ -27,9 +27,11 @@ struct MultiRegimeSettings {
   bool collisional = true;               // σ_COL, Γ and the T balance
   bool liquid = false;                   // σ_L viscous part, η(ν)
   bool fluctuation_dissipation = false;  // Λ (needs liquid)
-  // σ_IC, the contacts' stress of dense inertial flow of rigid grains (collisional.inertial_contact
-  // a_c, _power m; docs/model/closures.md "The contacts' dense inertial stress"):
-  //   p_IC = ρ_p (a_c d γ̇)² (ν_c - ν)^-m,   σ_IC = p_IC I + 2 (μ_IC p_IC / γ̇) ε̇',
+  // σ_IC, the contacts' stress of dense flow (collisional.inertial_contact a_c, _power m,
+  // liquid.viscous_contact b_v; docs/model/multi_regime.md §2):
+  //   p_IC = [ρ_p (a_c d γ̇)² + b_v η0 γ̇] (ν_c - ν)^-m,   σ_IC = p_IC I + 2 (μ_IC p_IC / γ̇) ε̇',
+  // the inertial scale of dry grains and the viscous scale of immersed ones (b_v only with the
+  // liquid on), as the mixed number K = J + α I² of Trulsson et al. (2012) adds them,
   // ν_c the jamming fraction of g0, μ_IC the contacts' friction (collisional.
   // inertial_contact_friction; 0: the force chains' critical state friction in plane strain,
   // M(θ = 0)/√3 of force_chain_parameters). a_c = 0 switches it off (the seed's model) and costs
@@ -37,10 +39,19 @@ struct MultiRegimeSettings {
   double inertial_contact = 0.0;
   double inertial_contact_power = 2.0;
   double inertial_contact_friction = 0.0;
+  double viscous_contact = 0.0;  // b_v (liquid.viscous_contact), used with liquid on
   model::CollisionalParameters collisional_parameters;
   model::LiquidParameters liquid_parameters;
   model::force_chains::ForceChainParameters force_chain_parameters;
 };
+
+// p_IC = [ρ_p (a_c d γ̇)² + b_v η0 γ̇] (ν_c - ν)^-m, Pa (0 when a_c = 0 and b_v η0 = 0); the one
+// definition the material point and the steady model share. Throws std::domain_error at
+// ν >= ν_c when the term is on.
+double contact_pressure(const MultiRegimeSettings& settings, double solid_fraction,
+                        double shear_rate);
+// Whether σ_IC is on: a_c > 0, or b_v > 0 with the liquid on.
+bool contact_stress_on(const MultiRegimeSettings& settings);
 
 struct PointState {
   double solid_fraction = 0.5;        // ν = 1/(1+e)

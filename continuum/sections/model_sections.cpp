@@ -98,6 +98,12 @@ core::Field liquid_section() {
       .at_most(1);
   l.boolean("fluctuation_dissipation", "Λ: fluctuation energy given to the liquid")
       .default_value("true");
+  l.number("viscous_contact", "",
+           "b_v: the viscous scale of the contacts' dense-flow stress, p_IC = [ρ_p (a_c d γ̇)² + "
+           "b_v η0 γ̇] (ν_c - ν)^-m (collisional.inertial_contact_*; the contact part of the "
+           "suspension rheology of Boyer et al. 2011 that η(ν) leaves out; 0 = off)")
+      .default_value("0")
+      .at_least(0);
   l.number("trulsson_alpha", "",
            "α of K = J + α I² (reporting, and the mixed number sqrt(K/α) of the steady model's "
            "friction rise)")
@@ -295,6 +301,7 @@ MultiRegimeSettings read_multi_regime_settings(const core::Case& c) {
   s.inertial_contact = c.number("collisional.inertial_contact");
   s.inertial_contact_power = c.number("collisional.inertial_contact_power");
   s.inertial_contact_friction = c.number("collisional.inertial_contact_friction");
+  s.viscous_contact = c.number("liquid.viscous_contact");
 
   auto& liq = s.liquid_parameters;
   s.liquid = c.boolean("liquid.enabled");

@@ -92,6 +92,21 @@ TEST(InertialContact, MaterialPointClosedForm) {
   EXPECT_NEAR(parts.inertial_contact.trace() / 3 / p_ic, 1.0, 1e-14);
   EXPECT_NEAR(-parts.inertial_contact(0, 1) / (mu * p_ic), 1.0, 1e-14);  // compression positive
   EXPECT_NEAR(point.inertial_contact_friction() / mu, 1.0, 1e-14);
+  // The viscous scale (liquid.viscous_contact b_v, with the liquid on): p_IC adds b_v η0 γ̇ (ν_c -
+  // ν)^-m, and the steady model's σ_yy,IC is the same number (one definition, two users).
+  auto wet = s;
+  wet.liquid = true, wet.liquid_parameters.viscosity = 1e-3, wet.viscous_contact = 0.7;
+  const double p_wet = p_ic + 0.7 * 1e-3 * rate * std::pow(0.5915 - 0.575, -3.3);
+  EXPECT_NEAR(continuum::MultiRegimePoint(wet)
+                      .evaluate(state, rev::simple_shear_strain_rate(rate))
+                      .inertial_contact_pressure /
+                  p_wet,
+              1.0, 1e-14);
+  const auto steady_wet = steady_simple_shear_at_solid_fraction(wet, {}, rate, 0.575);
+  ASSERT_TRUE(steady_wet.ok) << steady_wet.why;
+  EXPECT_NEAR(steady_wet.inertial_contact_normal_stress / p_wet, 1.0, 1e-14);
+  wet.liquid = false;  // b_v needs the liquid: dry, only the inertial scale is left
+  EXPECT_NEAR(continuum::contact_pressure(wet, 0.575, rate) / p_ic, 1.0, 1e-14);
   const continuum::MultiRegimePoint off(spheres(false));
   EXPECT_EQ(off.evaluate(state, rev::simple_shear_strain_rate(rate)).inertial_contact.norm(), 0.0);
 }
