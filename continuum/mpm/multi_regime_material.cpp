@@ -152,8 +152,9 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
       v.conductivity[p] = 0.0;
       if (point_.settings().collisional) {
         const auto& cp = point_.settings().collisional_parameters;
-        v.conductivity[p] = model::collisional_conductivity(
-            cp, model::collisional_coefficients(cp, st.solid_fraction), st.granular_temperature);
+        // (the coefficients of this step's update, at the same ν)
+        v.conductivity[p] =
+            model::collisional_conductivity(cp, parts.coefficients, st.granular_temperature);
       }
     }
     // σ' of the solver (tension positive) = -(σ_FC + σ_COL + σ_L) (docs/model/conventions.md)

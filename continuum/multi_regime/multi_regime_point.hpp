@@ -53,6 +53,7 @@ struct StressParts {
   double liquid_dissipation = 0;                       // Λ, W/m³
   double collisional_power = 0;                        // σ_COL : ε̇, W/m³
   RiccatiCoefficients temperature_equation;            // coefficients of ds/dt, s = T^½
+  model::CollisionalCoefficients coefficients;         // g0, f1..f4 at ν (collisional only)
   model::force_chains::UpdateInfo force_chain_update;  // of the last advance() (diagnostics)
 
   // σ_FC + σ_COL + σ_L without the pore pressure u_w (the driver adds u_w I).
@@ -98,6 +99,14 @@ class MultiRegimePoint {
   const MultiRegimeSettings& settings() const { return settings_; }
 
  private:
+  // evaluate() with the collisional coefficients at state.solid_fraction given (unused when the
+  // collisional term is off), and the Riccati coefficients alone.
+  StressParts evaluate(const PointState& state, const Eigen::Matrix3d& strain_rate,
+                       const model::CollisionalCoefficients& c) const;
+  RiccatiCoefficients temperature_equation(const PointState& state,
+                                           const Eigen::Matrix3d& strain_rate,
+                                           const model::CollisionalCoefficients& c) const;
+
   MultiRegimeSettings settings_;
   std::optional<model::force_chains::ForceChainModel> force_chain_model_;
 };
