@@ -1,6 +1,8 @@
 // The `mpm` / `rheometer` run (docs/rheometer.md): the seed's undrained constant-volume annular
 // rheometer with the multi-regime material (rheometer.hpp builds it), its averaged series, crowns,
 // radial profiles and summary.
+#include "continuum/mpm/kind_rheometer.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -202,6 +204,8 @@ void rheometer_summary(core::RunContext& ctx, const RheometerSeries& se, const R
       se.porosity_std.back(), vmax_dev, pw_dev);
 }
 
+}  // namespace
+
 RheometerSpec read_rheometer(const core::Case& c) {
   RheometerSpec r;
   read_annulus(c, r);
@@ -230,8 +234,6 @@ RheometerSpec read_rheometer(const core::Case& c) {
   r.options.closed_domain = c.boolean("run.closed_domain");
   return r;
 }
-
-}  // namespace
 
 void rheometer_inputs(const core::Case& c) {
   if (const auto r =

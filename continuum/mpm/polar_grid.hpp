@@ -1,9 +1,9 @@
 // Logically structured polar background grid: a full annulus r0 <= r <= r1 (an O-grid, periodic
 // in θ) of nr x nθ straight-edged bilinear quads with nodes at (r_i, θ_j). A point is located in
-// O(1) from its own polar coordinates (i from r, j from θ), then its isoparametric coordinates
-// (ξ, η) in that quad are found by Newton's method on the bilinear map; a point between an arc and
-// the chord of its quad moves to the radial neighbour. Node numbering: node(i, j) = i + (nr+1) j.
-// Linear (Q4) shape functions only.
+// O(1): its sector j from its angle, then i and its isoparametric coordinates (ξ, η) in closed
+// form from the bilinear map of the cell's isosceles trapezoid (stencil()); a point between an
+// arc and the chord of its quad belongs to the radial neighbour. Node numbering:
+// node(i, j) = i + (nr+1) j. Linear (Q4) shape functions only.
 #pragma once
 
 #include <algorithm>
@@ -23,9 +23,26 @@ class PolarGrid {
         nr_(nr),
         nt_(ntheta),
         dr_((r1 - r0) / nr),
-        dt_(2.0 * std::numbers::pi / ntheta) {
+        dt_(2.0 * std::numbers::pi / ntheta),
+        inv_dt_(ntheta / (2.0 * std::numbers::pi)),
+        half_cos_(std::cos(0.5 * dt_)),
+        half_sin_(std::sin(0.5 * dt_)),
+        inv_half_cos_(1.0 / half_cos_),
+        inv_dr_(1.0 / dr_) {
     x_.resize(nodes());
     y_.resize(nodes());
+    ray_x_.resize(nt_ + 1);
+    ray_y_.resize(nt_ + 1);
+    bisector_x_.resize(nt_);
+    bisector_y_.resize(nt_);
+    for (int j = 0; j <= nt_; ++j) {
+      ray_x_[j] = std::cos((j % nt_) * dt_);
+      ray_y_[j] = std::sin((j % nt_) * dt_);
+    }
+    for (int j = 0; j < nt_; ++j) {
+      bisector_x_[j] = std::cos((j + 0.5) * dt_);
+      bisector_y_[j] = std::sin((j + 0.5) * dt_);
+    }
     for (int j = 0; j < nt_; ++j) {
       for (int i = 0; i <= nr_; ++i) {
         x_[node(i, j)] = node_radius(i) * std::cos(j * dt_);
@@ -63,57 +80,60 @@ class PolarGrid {
     detJ = J.xx * J.yy - J.xy * J.yx;
   }
 
+  // The cell of a point and its isoparametric coordinates in closed form. Cell (i, j) is the
+  // isosceles trapezoid of the nodes at radii r_i, r_i+1 and angles θ_j, θ_j+1: in the frame
+  // turned by its bisector angle φ_j = (j + 1/2) Δθ, with c = cos(Δθ/2), s = sin(Δθ/2), the
+  // bilinear map of its corners (r c, ∓r s) is
+  //   x' = (r_i + ξ Δr) c,   y' = (r_i + ξ Δr) s (2η − 1),
+  // so ξ = (x'/c − r_i)/Δr (the chords are the lines x' = r c) and η = (y' c/(x' s) + 1)/2; its
+  // Jacobian ∂(x', y')/∂(ξ, η) = [[Δr c, 0], [Δr s (2η − 1), 2 (r_i + ξ Δr) s]], turned back by
+  // φ_j. The sector j is the one with e_j × x >= 0 > e_j+1 × x (e_j the unit vector of the radial
+  // line θ_j): each point has exactly one, whatever the first guess, which comes from a
+  // polynomial atan2 (error ~1e-5 rad against Δθ >= 2π/10⁴ here; a wrong guess moves by one
+  // sector). The same map Newton's method solved before (to round-off), without atan2, hypot or
+  // the iteration.
   template <ShapeKind shape>
   bool stencil(double x, double y, double /*lx*/, double /*ly*/, Stencil& s) const {
     static_assert(shape == ShapeKind::linear, "PolarGrid supports linear shape functions only");
-    const double r = std::hypot(x, y);
-    double theta = std::atan2(y, x);
-    if (theta < 0.0) theta += 2.0 * std::numbers::pi;
-    if (!(r == r)) return false;
-    int j = std::min(static_cast<int>(theta / dt_), nt_ - 1);
-    int i = std::clamp(static_cast<int>(std::floor((r - r0_) / dr_)), 0, nr_ - 1);
-    double xi = (r - node_radius(i)) / dr_, eta = theta / dt_ - j;
-    double c[4][2];
-    for (int attempt = 0; attempt < 2; ++attempt) {
-      corners(i, j, c);
-      // Newton on x(ξ, η) = (x, y); the start (polar fractions) is within the chord sagitta.
-      for (int it = 0; it < 4; ++it) {
-        const Jac J = jacobian(c, xi, eta);
-        const double rx = (1 - xi) * (1 - eta) * c[0][0] + xi * (1 - eta) * c[1][0] +
-                          xi * eta * c[2][0] + (1 - xi) * eta * c[3][0] - x;
-        const double ry = (1 - xi) * (1 - eta) * c[0][1] + xi * (1 - eta) * c[1][1] +
-                          xi * eta * c[2][1] + (1 - xi) * eta * c[3][1] - y;
-        const double det = J.xx * J.yy - J.xy * J.yx;
-        xi -= (J.yy * rx - J.xy * ry) / det;
-        eta -= (-J.yx * rx + J.xx * ry) / det;
-      }
-      if (xi < 0.0 && i > 0) {
-        --i;
-        xi += 1.0;
-      } else if (xi > 1.0 && i < nr_ - 1) {
-        ++i;
-        xi -= 1.0;
-      } else {
-        break;
-      }
-    }
-    constexpr double slack = 1e-9;  // round-off of the Newton solve on a cell edge
+    if (!(x == x) || !(y == y)) return false;
+    int j = std::min(static_cast<int>(approximate_angle(x, y) * inv_dt_), nt_ - 1);
+    // canonical sector: e_j × x >= 0 and e_j+1 × x < 0
+    for (int k = 0; k < nt_ && ray_x_[j] * y - ray_y_[j] * x < 0.0; ++k)
+      j = j > 0 ? j - 1 : nt_ - 1;
+    for (int k = 0; k < nt_ && ray_x_[j + 1] * y - ray_y_[j + 1] * x >= 0.0; ++k)
+      j = j + 1 < nt_ ? j + 1 : 0;
+    const double bc = bisector_x_[j], bs = bisector_y_[j];
+    const double xp = bc * x + bs * y, yp = -bs * x + bc * y;  // cell frame
+    const double u = (xp * inv_half_cos_ - r0_) * inv_dr_;
+    if (!(xp > 0.0)) return false;
+    const int i = std::clamp(static_cast<int>(std::floor(u)), 0, nr_ - 1);
+    double xi = u - i;
+    constexpr double slack = 1e-9;  // round-off on a cell edge
     if (xi < -slack || xi > 1.0 + slack) return false;
     xi = std::clamp(xi, 0.0, 1.0);
-    eta = std::clamp(eta, 0.0, 1.0);
-    const Jac J = jacobian(c, xi, eta);
-    const double det = J.xx * J.yy - J.xy * J.yx;
+    const double eta = std::clamp(0.5 * (yp * half_cos_ / (xp * half_sin_) + 1.0), 0.0, 1.0);
+    // Jacobian in the cell frame, then turned by φ_j: J = R(φ_j) J'
+    const double a_xi = dr_ * half_cos_, b_xi = dr_ * half_sin_ * (2.0 * eta - 1.0);
+    const double b_eta = 2.0 * (node_radius(i) + xi * dr_) * half_sin_;
+    Jac J;
+    J.xx = bc * a_xi - bs * b_xi;
+    J.yx = bs * a_xi + bc * b_xi;
+    J.xy = -bs * b_eta;
+    J.yy = bc * b_eta;
+    const double inv_det = 1.0 / (J.xx * J.yy - J.xy * J.yx);
     const double N[4] = {(1 - xi) * (1 - eta), xi * (1 - eta), xi * eta, (1 - xi) * eta};
     const double dxi[4] = {-(1 - eta), (1 - eta), eta, -eta};
     const double deta[4] = {-(1 - xi), -xi, xi, (1 - xi)};
-    const int nodes_of[4] = {node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)};
+    const int row = nr_ + 1;
+    const int n0 = i + row * j, n1 = i + row * (j + 1 < nt_ ? j + 1 : 0);
+    const int nodes_of[4] = {n0, n0 + 1, n1 + 1, n1};
     s.count = 4;
     for (int a = 0; a < 4; ++a) {
       s.node[a] = nodes_of[a];
       s.N[a] = N[a];
       // ∇N = J^{-T} ∇_ξ N
-      s.dNdx[a] = (J.yy * dxi[a] - J.yx * deta[a]) / det;
-      s.dNdy[a] = (-J.xy * dxi[a] + J.xx * deta[a]) / det;
+      s.dNdx[a] = (J.yy * dxi[a] - J.yx * deta[a]) * inv_det;
+      s.dNdy[a] = (-J.xy * dxi[a] + J.xx * deta[a]) * inv_det;
     }
     return true;
   }
@@ -138,10 +158,29 @@ class PolarGrid {
     return J;
   }
 
+  // θ in [0, 2π) to about 1e-5 rad: atan of the octant's ratio a in [0, 1] by the polynomial
+  // a (c1 + a² (c3 + a² (c5 + a² (c7 + a² c9)))) of Abramowitz & Stegun 4.4.49 (|error| <= 1e-5),
+  // then the octant's reflections. Only the first guess of the sector (see stencil()).
+  static double approximate_angle(double x, double y) {
+    const double ax = std::abs(x), ay = std::abs(y);
+    const double hi = std::max(ax, ay), lo = std::min(ax, ay);
+    const double a = hi > 0.0 ? lo / hi : 0.0, a2 = a * a;
+    double t =
+        a * (0.9998660 + a2 * (-0.3302995 + a2 * (0.1801410 + a2 * (-0.0851330 + a2 * 0.0208351))));
+    if (ay > ax) t = 0.5 * std::numbers::pi - t;
+    if (x < 0.0) t = std::numbers::pi - t;
+    if (y < 0.0) t = 2.0 * std::numbers::pi - t;
+    return t >= 2.0 * std::numbers::pi ? 0.0 : t;
+  }
+
   double r0_, r1_;
   int nr_, nt_;
   double dr_, dt_;
+  double inv_dt_, half_cos_, half_sin_, inv_half_cos_, inv_dr_;
   std::vector<double> x_, y_;
+  // unit vectors of the radial lines θ_j (j = 0..nθ, the last = the first) and of the cells'
+  // bisectors φ_j
+  std::vector<double> ray_x_, ray_y_, bisector_x_, bisector_y_;
 };
 
 }  // namespace granflow::mpm

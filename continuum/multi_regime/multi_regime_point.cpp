@@ -80,6 +80,37 @@ double MultiRegimePoint::shear_rate(const Eigen::Matrix3d& strain_rate) {
 
 StressParts MultiRegimePoint::evaluate(const PointState& state,
                                        const Eigen::Matrix3d& strain_rate) const {
+  model::CollisionalCoefficients c;
+  if (settings_.collisional)
+    c = model::collisional_coefficients(settings_.collisional_parameters, state.solid_fraction);
+  return evaluate(state, strain_rate, c);
+}
+
+RiccatiCoefficients MultiRegimePoint::temperature_equation(
+    const PointState& state, const Eigen::Matrix3d& strain_rate,
+    const model::CollisionalCoefficients& c) const {
+  // The coefficients of evaluate() below (same expressions, same order), without the stresses.
+  const double nu = state.solid_fraction;
+  const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d deviator = strain_rate - strain_rate.trace() / 3.0 * identity;
+  const double deviator_norm2 = deviator.cwiseProduct(deviator).sum();  // ε̇':ε̇'
+  const auto& p = settings_.collisional_parameters;
+  const double T = state.granular_temperature;
+  const double gamma_dot = std::sqrt(2.0 * deviator_norm2);
+  RiccatiCoefficients k;
+  k.a = 2.0 * p.diameter * c.f2 * deviator_norm2 / (3.0 * nu);
+  k.b = c.f3 / (3.0 * nu * model::correlation_length(p, c, gamma_dot, T));
+  k.c = -c.f1 * strain_rate.trace() / (3.0 * nu);
+  if (settings_.fluctuation_dissipation) {
+    const double lambda_over_T = model::liquid_fluctuation_dissipation(settings_.liquid_parameters,
+                                                                       p.diameter, nu, c.g0, 1.0);
+    k.c += lambda_over_T / (3.0 * nu * p.particle_density);
+  }
+  return k;
+}
+
+StressParts MultiRegimePoint::evaluate(const PointState& state, const Eigen::Matrix3d& strain_rate,
+                                       const model::CollisionalCoefficients& c) const {
   StressParts parts;
   if (settings_.force_chains) parts.force_chain = state.force_chains.stress;
   const double nu = state.solid_fraction;
@@ -89,7 +120,7 @@ StressParts MultiRegimePoint::evaluate(const PointState& state,
 
   if (settings_.collisional) {
     const auto& p = settings_.collisional_parameters;
-    const auto c = model::collisional_coefficients(p, nu);
+    parts.coefficients = c;
     const double T = state.granular_temperature;
     const double gamma_dot = std::sqrt(2.0 * deviator_norm2);
     parts.collisional_pressure = model::collisional_pressure(p, c, T);
@@ -137,9 +168,13 @@ StressParts MultiRegimePoint::evaluate(const PointState& state,
 
 StressParts MultiRegimePoint::update(PointState& state, const Eigen::Matrix3d& strain_rate,
                                      double dt, double heat_capacity_factor) const {
+  // ν is frozen over the T update, so the collisional coefficients (g0, f1..f4 of ν:
+  // docs/model/closures.md) are evaluated once and serve the Riccati coefficients at the start
+  // and the stresses at the end (bit for bit the two evaluations they replace).
+  model::CollisionalCoefficients c;
   if (settings_.collisional) {
-    const StressParts start = evaluate(state, strain_rate);
-    RiccatiCoefficients k = start.temperature_equation;
+    c = model::collisional_coefficients(settings_.collisional_parameters, state.solid_fraction);
+    RiccatiCoefficients k = temperature_equation(state, strain_rate, c);
     k.a /= heat_capacity_factor;
     k.b /= heat_capacity_factor;
     k.c /= heat_capacity_factor;
@@ -147,7 +182,7 @@ StressParts MultiRegimePoint::update(PointState& state, const Eigen::Matrix3d& s
     const double s1 = advance_sqrt_temperature(s0, k, dt);
     state.granular_temperature = s1 * s1;
   }
-  return evaluate(state, strain_rate);
+  return evaluate(state, strain_rate, c);
 }
 
 }  // namespace granflow::continuum

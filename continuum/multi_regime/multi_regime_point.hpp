@@ -66,7 +66,7 @@ struct StressParts {
   Eigen::Matrix3d force_chain = Eigen::Matrix3d::Zero();  // σ_FC = σ' (effective stress)
   Eigen::Matrix3d collisional = Eigen::Matrix3d::Zero();
   Eigen::Matrix3d liquid = Eigen::Matrix3d::Zero();
-  Eigen::Matrix3d inertial_contact = Eigen::Matrix3d::Zero();  // σ_IC (zero when a_c = 0)
+  Eigen::Matrix3d inertial_contact = Eigen::Matrix3d::Zero();  // σ_IC (zero when off)
   double collisional_pressure = 0;                             // p_COL, Pa
   double inertial_contact_pressure = 0;                        // p_IC, Pa
   double collisional_viscosity = 0;                            // ρ_p d f2 T^½, Pa s
@@ -76,6 +76,7 @@ struct StressParts {
   double liquid_dissipation = 0;                               // Λ, W/m³
   double collisional_power = 0;                                // σ_COL : ε̇, W/m³
   RiccatiCoefficients temperature_equation;                    // coefficients of ds/dt, s = T^½
+  model::CollisionalCoefficients coefficients;         // g0, f1..f4 at ν (collisional only)
   model::force_chains::UpdateInfo force_chain_update;  // of the last advance() (diagnostics)
 
   // σ_FC + σ_IC + σ_COL + σ_L without the pore pressure u_w (the driver adds u_w I).
@@ -117,7 +118,7 @@ class MultiRegimePoint {
     return force_chain_model_ ? &*force_chain_model_ : nullptr;
   }
 
-  // p_IC = ρ_p (a_c d γ̇)² (ν_c - ν)^-m, Pa (0 with a_c = 0). Throws std::domain_error at ν >= ν_c.
+  // p_IC = contact_pressure(settings(), ν, γ̇), Pa. Throws std::domain_error at ν >= ν_c.
   double inertial_contact_pressure(double solid_fraction, double shear_rate) const;
   // μ_IC = M(θ = 0)/√3 of the force chains' critical state (τ_IC = μ_IC p_IC in simple shear).
   double inertial_contact_friction() const { return inertial_contact_friction_; }
@@ -128,6 +129,14 @@ class MultiRegimePoint {
   const MultiRegimeSettings& settings() const { return settings_; }
 
  private:
+  // evaluate() with the collisional coefficients at state.solid_fraction given (unused when the
+  // collisional term is off), and the Riccati coefficients alone.
+  StressParts evaluate(const PointState& state, const Eigen::Matrix3d& strain_rate,
+                       const model::CollisionalCoefficients& c) const;
+  RiccatiCoefficients temperature_equation(const PointState& state,
+                                           const Eigen::Matrix3d& strain_rate,
+                                           const model::CollisionalCoefficients& c) const;
+
   MultiRegimeSettings settings_;
   double inertial_contact_friction_ = 0.0;  // μ_IC
   std::optional<model::force_chains::ForceChainModel> force_chain_model_;

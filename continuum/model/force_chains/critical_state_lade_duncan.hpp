@@ -11,6 +11,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "continuum/model/force_chains/force_chain_parameters.hpp"
@@ -28,14 +29,44 @@ class CriticalStateLadeDuncan {
         xi_c_(p.xi_c),
         p_atm_(p.atmospheric_pressure),
         e_min_(p.e_min),
-        e_max_(p.e_max) {}
+        e_max_(p.e_max) {
+    // the table of stress_ratio(): roots and their slopes times the interval width 2/kIntervals
+    for (int i = 0; i <= kIntervals; ++i) {
+      const double c = -1.0 + 2.0 * i / kIntervals;
+      const double eta = stress_ratio_newton(c);
+      root_[i] = eta;
+      slope_[i] = -(2.0 / 27.0) * eta * eta * eta / (-2.0 * eta / 3.0 + 2.0 / 9.0 * c * eta * eta) *
+                  (2.0 / kIntervals);
+    }
+  }
 
   double lade_duncan_constant() const { return k_ld_; }
   double compression_ratio() const { return m_c_; }
 
-  // Critical stress ratio q/p at the Lode angle given by cos3θ: safeguarded Newton on h(η).
+  // Critical stress ratio q/p at the Lode angle given by cos3theta. The root of h(η) is
+  // tabulated over cos3θ in [-1, 1] (cubic Hermite on kIntervals intervals with the slopes
+  // dη/dc = -(∂h/∂c)/(∂h/∂η) = -(2/27)η³ / (-2η/3 + (2/9) c η²); interpolation error of order
+  // (2/kIntervals)⁴ max|d⁴η/dc⁴|/384), then one Newton step on h, which squares that error to
+  // round-off. Where the step is not small (M_c near 3, where ∂h/∂η vanishes at the root) the
+  // safeguarded Newton iteration from M_c decides, as before.
   double stress_ratio(double cos3theta) const {
     const double c = std::clamp(cos3theta, -1.0, 1.0);
+    const double u = (c + 1.0) * (0.5 * kIntervals);
+    const int i = std::min(static_cast<int>(u), kIntervals - 1);
+    const double t = u - i, w = 1.0 - t;
+    const double eta = (1.0 + 2.0 * t) * w * w * root_[i] + t * w * w * slope_[i] +
+                       t * t * (3.0 - 2.0 * t) * root_[i + 1] - t * t * w * slope_[i + 1];
+    const double h = 1.0 - eta * eta / 3.0 + 2.0 / 27.0 * c * eta * eta * eta - 27.0 / k_ld_;
+    const double dh = -2.0 * eta / 3.0 + 2.0 / 9.0 * c * eta * eta;
+    if (dh < 0.0) {
+      const double next = eta - h / dh;
+      if (std::abs(next - eta) <= 1e-7 * eta) return next;
+    }
+    return stress_ratio_newton(c);
+  }
+
+  // The safeguarded Newton iteration on h(η) from η = M_c (c in [-1, 1]).
+  double stress_ratio_newton(double c) const {
     const double target = 27.0 / k_ld_;
     double lo = 0.0, hi = 3.0, eta = m_c_;
     for (int it = 0; it < 60; ++it) {
@@ -58,13 +89,16 @@ class CriticalStateLadeDuncan {
   // every Lode angle. Capped at 3 M_c (beyond the no-tension limit) so that it stays finite as
   // p -> 0.
   double normalized_stress_ratio(const Tensor& stress) const {
-    const double p = mean_stress(stress);
     const Tensor s = deviator(stress);
+    return normalized_stress_ratio(mean_stress(stress), s, lode_cos3theta(s));
+  }
+  // The same from p, the deviator s and its cos 3θ (lode_cos3theta(s)) when the caller has them.
+  double normalized_stress_ratio(double p, const Tensor& s, double cos3theta) const {
     const double q = std::sqrt(1.5 * double_contraction(s, s));
     const double cap = 3.0 * m_c_;
     if (!(q > 0.0)) return 0.0;
     if (!(p > 0.0)) return cap;
-    const double eta = m_c_ * q / (p * stress_ratio(lode_cos3theta(s)));
+    const double eta = m_c_ * q / (p * stress_ratio(cos3theta));
     return std::min(eta, cap);
   }
 
@@ -76,7 +110,9 @@ class CriticalStateLadeDuncan {
   }
 
  private:
+  static constexpr int kIntervals = 128;
   double m_c_, k_ld_, e_gamma_, lambda_c_, xi_c_, p_atm_, e_min_, e_max_;
+  std::array<double, kIntervals + 1> root_{}, slope_{};
 };
 
 }  // namespace granflow::model::force_chains

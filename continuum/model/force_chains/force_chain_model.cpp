@@ -18,6 +18,9 @@ constexpr double kYieldClip = 1.0e3;
 // locus inside the no-tension cone, exp(-17.25/(3β_f(γ-3))) at σ_3 = 0 in compression for an
 // isotropic axis (0.03 for the defaults, 3e-5 for β_f = 0.5, γ = 4.1).
 constexpr double kApexRatio = 1.0e-9;
+// Smallest first sub-step taken from the previous increment (ForceChainState::substep): a hard
+// increment does not make the next ones start from tiny sub-steps that grow by 1.1 at most.
+constexpr double kMinFirstSubstep = 0.05;
 }  // namespace
 
 ForceChainModel::ForceChainModel(ForceChainParameters parameters)
@@ -25,7 +28,10 @@ ForceChainModel::ForceChainModel(ForceChainParameters parameters)
       elastic_(par_),
       yield_(par_),
       critical_(par_),
-      dilatancy_(par_) {}
+      dilatancy_(par_),
+      constant_theta_hat_(par_.theta_hat_c == par_.theta_hat_e),
+      cos_theta_hat_(std::cos(par_.theta_hat_e)),
+      sin_theta_hat_(std::sin(par_.theta_hat_e)) {}
 
 double ForceChainModel::deviatoric_hardening(double psi) const {
   return -(psi > 0.0 ? par_.xi_psi : par_.xi_psi_dense) * psi;
@@ -78,7 +84,9 @@ ForceChainModel::PlasticRates ForceChainModel::plastic_rates(const Point& y) con
   const YieldGradients g = yield_.gradients(y.stress, y.chi, y.r_c);
   const double p = mean_stress(y.stress);
   const Tensor s = deviator(y.stress);
-  const double normalized_ratio = critical_.normalized_stress_ratio(y.stress);
+  // cos 3θ once for the Lode-normalised ratio and the target axis below
+  const double c3 = lode_cos3theta(s);
+  const double normalized_ratio = critical_.normalized_stress_ratio(p, s, c3);
   const double psi = critical_.state_parameter(y.void_ratio, p);
   PlasticRates r;
   r.value = g.value;
@@ -91,10 +99,16 @@ ForceChainModel::PlasticRates ForceChainModel::plastic_rates(const Point& y) con
   const double s_norm = s.norm();
   Tensor chi_target = kInvSqrt3 * Tensor::Identity();
   if (s_norm > 1e-12 * std::abs(p) && s_norm > 0.0) {
-    const double c3 = lode_cos3theta(s);
-    const double theta =
-        par_.theta_hat_e + (par_.theta_hat_c - par_.theta_hat_e) * 0.5 * (1.0 + c3);
-    chi_target = std::cos(theta) * kInvSqrt3 * Tensor::Identity() + (std::sin(theta) / s_norm) * s;
+    // θ̂ = θ̂_e + (θ̂_c - θ̂_e)(1 + cos 3θ)/2; constant (cos, sin from the constructor) when
+    // θ̂_c = θ̂_e, as in the defaults
+    double cos_theta = cos_theta_hat_, sin_theta = sin_theta_hat_;
+    if (!constant_theta_hat_) {
+      const double theta =
+          par_.theta_hat_e + (par_.theta_hat_c - par_.theta_hat_e) * 0.5 * (1.0 + c3);
+      cos_theta = std::cos(theta);
+      sin_theta = std::sin(theta);
+    }
+    chi_target = cos_theta * kInvSqrt3 * Tensor::Identity() + (sin_theta / s_norm) * s;
   }
   r.chi_rate = par_.c_p * (chi_target - y.chi);
   r.chi_rate -= double_contraction(r.chi_rate, y.chi) * y.chi;
@@ -159,16 +173,17 @@ double ForceChainModel::correct_drift(Point& y) const {
   return f0;
 }
 
-double ForceChainModel::elastic_fraction(const Point& y, const Tensor& strain, double f0) const {
+double ForceChainModel::elastic_fraction(const Point& y, const Tensor& strain, double f0,
+                                         double f1) const {
   auto f_at = [&](double alpha) {
     return safe_yield(elastic_.finite_update(y.stress, alpha * strain), y.chi, y.r_c);
   };
   const double ftol = par_.yield_tolerance;
-  double lo = 0.0, f_lo = f0, hi = 1.0, f_hi = f_at(1.0);
+  double lo = 0.0, f_lo = f0, hi = 1.0, f_hi = f1;
   if (f0 > -ftol) {  // starting on the locus: loading or elastic unloading first?
-    const YieldGradients g = yield_.gradients(y.stress, y.chi, y.r_c);
+    const Tensor n = yield_.stress_gradient(y.stress, y.chi, y.r_c);
     const Tensor elastic_stress = elastic_.apply(mean_stress(y.stress), strain);
-    if (double_contraction(g.d_stress, elastic_stress) >= 0.0) return 0.0;
+    if (double_contraction(n, elastic_stress) >= 0.0) return 0.0;
     constexpr int kScan = 16;  // unloading then reloading inside the increment
     bool found = false;
     for (int j = 1; j <= kScan; ++j) {
@@ -210,7 +225,8 @@ double ForceChainModel::elastic_fraction(const Point& y, const Tensor& strain, d
   return alpha;
 }
 
-double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& info) const {
+double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& info,
+                                  double& substep) const {
   const Tensor trial = elastic_.finite_update(y.stress, strain);
   const double f_trial = safe_yield(trial, y.chi, y.r_c);
   if (f_trial <= par_.yield_tolerance) {
@@ -222,7 +238,7 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& in
   const double f0 = safe_yield(y.stress, y.chi, y.r_c);
   // from the stress-free state straight into tension: all contact loss
   if (y.stress.norm() <= kApexRatio * y.r_c && !admissible(trial, y.chi, y.r_c)) return 1.0;
-  const double alpha = elastic_fraction(y, strain, f0);
+  const double alpha = elastic_fraction(y, strain, f0, f_trial);
   if (alpha > 0.0) {
     y.stress = elastic_.finite_update(y.stress, alpha * strain);
     y.void_ratio = (1.0 + y.void_ratio) * std::exp(-alpha * strain.trace()) - 1.0;
@@ -230,7 +246,12 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& in
   const Tensor rest = (1.0 - alpha) * strain;
   const bool fixed = par_.fixed_substeps > 0;
   const double stol = par_.stress_tolerance;
-  double t = 0.0, dt = fixed ? 1.0 / par_.fixed_substeps : 1.0;
+  // First sub-step: the size the error control found for the previous increment of this point
+  // (ForceChainState::substep), not the whole increment. The increments of consecutive driver
+  // steps are alike, so the step that would be rejected first (and the two plastic_rates it
+  // costs) is saved; the error control and STOL are unchanged.
+  double t = 0.0,
+         dt = fixed ? 1.0 / par_.fixed_substeps : std::clamp(substep, kMinFirstSubstep, 1.0);
   bool last_failed = false;
   int attempts = 0;
   double dt_budget = 0.0;  // once max_substeps is spent: the rest in at most 64 forced steps
@@ -299,6 +320,9 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& in
     info.yield_value = correct_drift(y);
     if (!fixed) {
       double factor = error > 0.0 ? 0.9 * std::sqrt(stol / error) : 1.1;
+      // the size this sub-step's error asks for (local error ∝ Δ², Sloan et al. 2001 Eq. 37)
+      // without the growth limit: the first sub-step of the next increment
+      substep = std::min(dt * factor, 1.0);
       factor = std::clamp(factor, 0.1, last_failed ? 1.0 : 1.1);
       dt *= factor;
       last_failed = false;
@@ -363,7 +387,7 @@ UpdateInfo ForceChainModel::update(ForceChainState& state, const Eigen::Matrix3d
   Point y{state.stress, state.chi, state.plastic_strain, state.r_c, state.void_ratio};
   Tensor remaining = strain_increment;
   for (int pass = 0; pass < 3; ++pass) {
-    const double left = integrate(y, remaining, info);
+    const double left = integrate(y, remaining, info, state.substep);
     if (y.r_c < par_.fluidization_size || left <= 0.0) break;
     info.contact_loss = true;
     y.stress.setZero();

@@ -33,6 +33,9 @@ struct ForceChainState {
   double void_ratio = 0.7;  // e, updated from the volumetric strain: 1+e ∝ exp(-ε_v)
   Eigen::Matrix3d plastic_strain = Eigen::Matrix3d::Zero();  // accumulated ε^p (bookkeeping)
   bool fluidized = false;  // true: no enduring contacts, σ_FC = 0
+  // First sub-step of the next plastic update, as a fraction of its increment: the size the
+  // error control asked for at the end of the last one (1: the whole increment first).
+  double substep = 1.0;
 };
 
 struct UpdateInfo {
@@ -96,10 +99,12 @@ class ForceChainModel {
   PlasticRates plastic_rates(const Point& y) const;
   Increment increment(const Point& y, const Tensor& strain, bool plastic) const;
   double correct_drift(Point& y) const;  // returns the final f
-  double elastic_fraction(const Point& y, const Tensor& strain, double f0) const;
+  // f0, f1: f at the start and at the end of the elastic trial (both known to the caller).
+  double elastic_fraction(const Point& y, const Tensor& strain, double f0, double f1) const;
   // Integrates `strain` from y; returns the fraction of `strain` left when the stress path hits
   // the stress-free apex (0 when the whole increment was integrated).
-  double integrate(Point& y, const Tensor& strain, UpdateInfo& info) const;
+  // `substep`: the first sub-step (fraction of `strain`) in, the size asked for at the end out.
+  double integrate(Point& y, const Tensor& strain, UpdateInfo& info, double& substep) const;
   void apex_flow(Point& y, const Tensor& strain) const;
 
   ForceChainParameters par_;
@@ -107,6 +112,9 @@ class ForceChainModel {
   YieldFunctionDiPrisco yield_;
   CriticalStateLadeDuncan critical_;
   DilatancyStateDependent dilatancy_;
+  // target axis angle θ̂ independent of the Lode angle (θ̂_c = θ̂_e): cos θ̂, sin θ̂ once
+  bool constant_theta_hat_;
+  double cos_theta_hat_, sin_theta_hat_;
 };
 
 }  // namespace granflow::model::force_chains

@@ -41,6 +41,18 @@ class YieldFunctionDiPrisco {
            c2_ * double_contraction(eta, eta);
   }
 
+  // ∂f/∂σ alone (the d_stress of gradients(), same expressions).
+  Tensor stress_gradient(const Tensor& stress, const Tensor& axis, double size) const {
+    (void)size;  // ∂f/∂σ does not depend on r_c
+    const double sqrt3 = std::sqrt(3.0);
+    const double r = double_contraction(stress, axis);
+    const Tensor eta = (sqrt3 / r) * (stress - r * axis);
+    const Tensor eta2 = eta * eta;
+    const Tensor g_eta = -3.0 * gamma_ * eta2 + 2.0 * c2_ * eta;
+    const double g_sigma = double_contraction(g_eta, stress);
+    return (a_ / r) * axis + (sqrt3 / r) * (g_eta - (g_sigma / r) * axis);
+  }
+
   YieldGradients gradients(const Tensor& stress, const Tensor& axis, double size) const {
     const double sqrt3 = std::sqrt(3.0);
     const double r = double_contraction(stress, axis);
