@@ -31,12 +31,16 @@ void continuum_transient(const core::Case& condition, double phi0, double p0,
   rev::run_simple_shear(continuum::MultiRegimePoint(settings), control, result);
 }
 
+std::string fitted_key(const std::string& name) {
+  return name.find('.') == std::string::npos ? "force_chains." + name : name;
+}
+
 core::Case with_force_chain_values(const core::Case& condition, const core::Schema& schema,
                                    const std::vector<std::string>& names,
                                    const std::vector<double>& values) {
   std::vector<std::string> overrides;
   for (std::size_t j = 0; j < names.size(); ++j)
-    overrides.push_back(fmt::format("force_chains.{}={:.17g}", names[j], values[j]));
+    overrides.push_back(fmt::format("{}={:.17g}", fitted_key(names[j]), values[j]));
   return core::Case::parse(condition.resolved_yaml(), condition.origin(), overrides, schema);
 }
 
@@ -54,7 +58,7 @@ TransientFit fit_force_chains(const core::Case& condition, const core::Schema& s
                               const std::vector<std::string>& names, const DemTransient& dem) {
   TransientFit out;
   out.names = names;
-  for (const auto& name : names) out.start.push_back(condition.number("force_chains." + name));
+  for (const auto& name : names) out.start.push_back(condition.number(fitted_key(name)));
   const std::size_t n = dem.strain.size();
   std::vector<double> sigma_p(n), sigma_tau(n);
   for (std::size_t i = 0; i < n; ++i) {

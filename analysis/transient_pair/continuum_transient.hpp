@@ -20,7 +20,11 @@ namespace granflow::transient_pair {
 void continuum_transient(const core::Case& condition, double phi0, double p0,
                          rev::SimpleShearResult& result);
 
-// `condition` with `force_chains.NAME=value` for each name (the case's own checks apply).
+// The case key of a fitted parameter: force_chains.NAME, or NAME itself when it is a key path
+// (e.g. liquid.viscous_contact).
+std::string fitted_key(const std::string& name);
+
+// `condition` with `fitted_key(NAME)=value` for each name (the case's own checks apply).
 // `schema` must outlive the returned Case.
 core::Case with_force_chain_values(const core::Case& condition, const core::Schema& schema,
                                    const std::vector<std::string>& names,

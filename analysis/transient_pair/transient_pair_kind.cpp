@@ -254,7 +254,8 @@ core::Schema transient_pair_schema() {
                         "optional: fit force-chain parameters to the DEM transient of one "
                         "condition (the others held out) and show the calibrated continuum");
   cal.string("parameters",
-             "force_chains keys to fit (e.g. xi_psi beta_f), separated by spaces; none: no fit")
+             "force_chains keys to fit (e.g. xi_psi beta_f) or other key paths of positive numbers "
+             "(e.g. liquid.viscous_contact), separated by spaces; none: no fit")
       .default_value("none");
   cal.integer("condition", "the condition (in sweep order) fitted").default_value("0").at_least(0);
   cal.number("range", "",
@@ -284,10 +285,11 @@ void check_transient_pair_case(const core::Case& c) {
     if (std::size_t(c.integer("calibrate.condition")) >= count)
       c.fail("calibrate.condition", fmt::format("a condition index below {}", count));
     for (const auto& name : names) try {
-        if (!(c.number("force_chains." + name) > 0)) throw std::logic_error("not positive");
+        if (!(c.number(fitted_key(name)) > 0)) throw std::logic_error("not positive");
       } catch (const std::logic_error&) {  // no such number key (Case::number), or <= 0
         c.fail("calibrate.parameters",
-               fmt::format("positive numeric force_chains keys (docs/cases.md); '{}' is not one",
+               fmt::format("positive numeric force_chains keys, or key paths of positive numbers "
+                           "(docs/cases.md); '{}' is not one",
                            name));
       }
   }
