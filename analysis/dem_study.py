@@ -21,11 +21,15 @@ ladder's reference in combined standard errors, the errors
     mu_error  = √((μ − μ_ref)² + se(μ)²) / μ_ref        (bias and statistical error)
     phi_error = √((φ − φ_ref)² + se(φ)²)
 and the cost (wall s of the whole `granflow run`, steps from summary.json, particle-steps).
+With --seeds N every rung is run with N seeds (statistics.seeds = N: dem.seed, dem.seed + 1, ...,
+one after the other in the rung's run): its μ, φ, T are the means over the seeds with the
+between-seed standard error s/√N (the run's seeds.* keys), the differences and errors above are
+computed on these means, steady means every seed steady and the cost is that of all N runs.
 Writes OUT/study.csv, OUT/study.md, OUT/study.json (study.N.<column>) and OUT/pareto.png.
 
 Usage: dem_study.py CASE OUT [--granflow PATH] [--vary particles,strain,safety,stiffness,sample]
-           [--ladder NAME=V1,V2,...]... [--inertial 0.01,0.2] [--jobs N] [--set key.path=value]...
-           [--check]
+           [--ladder NAME=V1,V2,...]... [--inertial 0.01,0.2] [--seeds N] [--jobs N]
+           [--set key.path=value]... [--check]
 --check validates the arguments only (no case, no directory) and exits 0, or 2 with one line.
 Exit: 0 every rung ran; 1 a rung failed (its row says so); 2 bad arguments (one line).
 """
@@ -58,7 +62,8 @@ QUIET_SETS = ["output.snapshot_strain=0"]
 COLUMNS = ["row", "n", "inertial_target", "ladder", "label", "reference", "base", "particles", "strain",
            "safety", "stiffness", "sample", "shear_rate", "inertial_number", "steady",
            "mu", "mu_err", "phi", "phi_err", "T", "T_err", "dmu_se", "dphi_se", "dT_se",
-           "mu_error", "phi_error", "wall_s", "steps", "particle_steps", "time_step", "failed"]
+           "mu_error", "phi_error", "wall_s", "steps", "particle_steps", "time_step", "failed",
+           "seeds", "mu_scatter_ratio"]
 
 
 class BadInput(Exception):
@@ -89,6 +94,7 @@ def parse_args(argv):
     ap.add_argument("--ladder", action="append", default=[], help="NAME=V1,V2,...")
     ap.add_argument("--inertial", default="")
     ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--seeds", type=int, default=1)
     ap.add_argument("--set", action="append", default=[], help="case override key.path=value")
     ap.add_argument("--check", action="store_true")
     a = ap.parse_args(argv)
@@ -107,6 +113,8 @@ def parse_args(argv):
     inertial = parse_list("--inertial", a.inertial or DEFAULT_INERTIAL, float)
     if a.jobs < 1:
         raise BadInput(f"--jobs: expected a whole number >= 1, got {a.jobs}")
+    if not 1 <= a.seeds <= 64:  # the range of statistics.seeds
+        raise BadInput(f"--seeds: expected a whole number from 1 to 64, got {a.seeds}")
     return a, vary, rungs, inertial
 
 
@@ -141,11 +149,14 @@ def stiffness_key(case):
     return "material.youngs_modulus", sigma
 
 
-def plan(case, origin, vary, rungs, inertial):
+def plan(case, origin, vary, rungs, inertial, seeds=1):
     """The rungs to run: dicts with the ladder, label, factor values and the --set list."""
     if case_value(case, "control.mode") != "constant_pressure":
         raise BadInput(f"{origin}: control.mode: expected constant_pressure (the study sets γ̇ "
                        "from I and σ_yy, and the stiffness as E/σ_yy)")
+    if seeds > 1 and any(k == "dem.seed" for k, _ in flatten_all(case_value(case, "sweep"))):
+        raise BadInput(f"{origin}: sweep.dem.seed: --seeds needs a case that does not sweep "
+                       "dem.seed (the study runs the seeds dem.seed, dem.seed + 1, ...)")
     # A swept key other than the shear rate runs at its first value (one condition per run),
     # which is also the value the base and γ̇ are computed from.
     fixed = []
@@ -169,7 +180,8 @@ def plan(case, origin, vary, rungs, inertial):
         out.append(f"{skey}={values['stiffness'] * sfactor:.6g}")
         swept_rate = any(k == "shear_rate" for k, _ in flatten_all(case_value(case, "sweep")))
         out.append(f"sweep.shear_rate=[{gd:.6g}]" if swept_rate else f"shear_rate={gd:.6g}")
-        return fixed + out + QUIET_SETS
+        seeded = [f"statistics.seeds={seeds}"] if seeds > 1 else []
+        return fixed + out + seeded + QUIET_SETS
 
     ladder = []
     for i in inertial:
@@ -198,7 +210,7 @@ def flatten_all(sweep):
     return [kv for k, v in (sweep or {}).items() for kv in flatten(k, v)]
 
 
-def run_one(granflow, case, out, sets):
+def run_one(granflow, case, out, sets, seeds=1):
     args = [granflow, "run", case, "--out", out, "--force", "--quiet"]
     for s in sets:
         args += ["--set", s]
@@ -212,10 +224,10 @@ def run_one(granflow, case, out, sets):
             lines = [line.strip() for line in log if line.strip()]
         return dict(failed=True, status=r.returncode, wall=wall,
                     why=lines[-1] if lines else "no output")
-    return dict(read_run(out), failed=False, wall=wall)
+    return dict(read_run(out, seeds), failed=False, wall=wall)
 
 
-def read_run(out):
+def read_run(out, seeds=1):
     import h5py
     with open(os.path.join(out, "summary.json")) as f:
         summary = json.load(f)
@@ -225,18 +237,34 @@ def read_run(out):
 
     with h5py.File(os.path.join(out, "result.h5"), "r") as h5:
         s = h5["steady"]
-        col = {c: float(s[c][0]) for c in s.keys() if s[c].ndim == 1 and len(s[c]) > 0
-               and s[c].dtype.kind in "fiu"}
+        rows = {c: [float(x) for x in s[c]] for c in s.keys()
+                if s[c].ndim == 1 and len(s[c]) > 0 and s[c].dtype.kind in "fiu"}
         d = float(s.attrs["diameter"])
-    scale = (d * col["shear_rate"]) ** 2
-    steps = key("cost.steps")
+    col = {c: v[0] for c, v in rows.items()}
+    scale = (d * col["shear_rate"]) ** 2  # the same γ̇ for every seed
     particles = key("dem.particles")
-    return dict(mu=col["friction"], mu_err=col["friction_err"], phi=col["solid_fraction"],
-                phi_err=col["solid_fraction_err"], T=col["granular_temperature"] / scale,
-                T_err=col["granular_temperature_err"] / scale,
-                inertial_number=col["inertial_number"], steady=int(col["steady_reached"]),
+    if seeds == 1:
+        steps = key("cost.steps")
+        return dict(mu=col["friction"], mu_err=col["friction_err"], phi=col["solid_fraction"],
+                    phi_err=col["solid_fraction_err"], T=col["granular_temperature"] / scale,
+                    T_err=col["granular_temperature_err"] / scale,
+                    inertial_number=col["inertial_number"], steady=int(col["steady_reached"]),
+                    time_step=col.get("time_step", math.nan), steps=steps,
+                    particle_steps=steps * particles, seeds=1)
+    # N seeds, points 0 ... N-1 of the rung's run: the means and between-seed errors (seeds.*.0),
+    # steady only if every seed is, the cost of all of them.
+    steps = sum(summary[f"cost.steps.{k}"] for k in range(seeds))
+    particles = summary.get("dem.particles", summary.get("dem.particles.0", math.nan))
+
+    def seed(name):
+        return summary.get(f"seeds.{name}.0", math.nan)
+
+    return dict(mu=seed("mu"), mu_err=seed("mu_err"), phi=seed("phi"), phi_err=seed("phi_err"),
+                T=seed("T") / scale, T_err=seed("T_err") / scale, inertial_number=seed("I"),
+                steady=int(all(v == 1 for v in rows["steady_reached"])),
                 time_step=col.get("time_step", math.nan), steps=steps,
-                particle_steps=steps * particles)
+                particle_steps=steps * particles, seeds=int(seed("count")),
+                mu_scatter_ratio=seed("mu_scatter_ratio"))
 
 
 def sigma_apart(a, a_err, b, b_err):
@@ -262,10 +290,15 @@ def write_outputs(out, rows):
     head = ("| run | I target | rung | μ | φ | T/(dγ̇)² | Δμ/SE | Δφ/SE | ΔT/SE | μ error | "
             "φ error | steady | wall s | particle-steps |\n"
             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n")
+    counts = {r.get("seeds") for r in rows if not r["failed"]}
+    seeded = (f" Every rung: the mean over {'/'.join(str(c) for c in sorted(counts))} seeds ± "
+              "the between-seed standard error s/√N; cost and wall s of all its seeds."
+              if any(c and c > 1 for c in counts) else "")
     with open(os.path.join(out, "study.md"), "w") as f:
         f.write("Differences in combined standard errors from the reference of the rung's ladder "
                 "(its most accurate rung, marked *; others at the base values); μ error = "
-                "√(Δμ² + se²)/μ_ref, φ error = √(Δφ² + se²).\n\n" + head)
+                "√(Δμ² + se²)/μ_ref, φ error = √(Δφ² + se²)." + seeded + "\n\n"
+                + head)
         for r in rows:
             label = r["label"] + (" (base)" if r["base"] else "") + (" *" if r["reference"]
                                                                      else "")
@@ -337,9 +370,10 @@ def table(ladder, results, vary, base):
                            wall_s=res["wall"], reference=int(v[name] == best),
                            base=int(v == base))
                 if not res["failed"]:
-                    row.update({k: res[k] for k in (
+                    row.update({k: res.get(k) for k in (
                         "mu", "mu_err", "phi", "phi_err", "T", "T_err", "inertial_number",
-                        "steady", "steps", "particle_steps", "time_step")})
+                        "steady", "steps", "particle_steps", "time_step", "seeds",
+                        "mu_scatter_ratio")})
                     if not ref["failed"]:
                         row["dmu_se"] = sigma_apart(res["mu"], res["mu_err"], ref["mu"],
                                                     ref["mu_err"])
@@ -366,14 +400,14 @@ def main(argv):
             case = yaml.safe_load(f)
     except (OSError, yaml.YAMLError) as e:
         raise BadInput(f"{case_file}: cannot read the resolved case: {e}")
-    ladder, base = plan(case, a.case, vary, rungs, inertial)
+    ladder, base = plan(case, a.case, vary, rungs, inertial, a.seeds)
     for n, r in enumerate(ladder):
         r["n"] = n
         r["out"] = os.path.join(a.out, f"run_{n}")
         print(f"[{n}] {r['label']}: {' '.join(r['sets'])}", flush=True)
 
     def job(r):
-        res = run_one(a.granflow, a.case, r["out"], a.set + r["sets"])  # the rung last
+        res = run_one(a.granflow, a.case, r["out"], a.set + r["sets"], a.seeds)  # rung last
         state = (f"failed (exit {res['status']}): {res['why']}" if res["failed"] else
                  f"μ {res['mu']:.4f} ± {res['mu_err']:.4f}")
         print(f"[{r['n']}] {r['label']}: {state}, {res['wall']:.0f} s", flush=True)

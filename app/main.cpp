@@ -101,6 +101,7 @@ struct ConvergenceOptions {
   std::vector<std::string> ladders;
   std::string inertial;
   int jobs = 1;
+  int seeds = 1;
   bool force = false;
 };
 
@@ -141,6 +142,7 @@ int convergence_study(const core::KindRegistry& registry, const ConvergenceOptio
   for (const auto& item : o.ladders) command.insert(command.end(), {"--ladder", item});
   if (!o.inertial.empty()) command.insert(command.end(), {"--inertial", o.inertial});
   if (o.jobs != 1) command.insert(command.end(), {"--jobs", std::to_string(o.jobs)});
+  if (o.seeds != 1) command.insert(command.end(), {"--seeds", std::to_string(o.seeds)});
   for (const auto& item : o.sets) command.insert(command.end(), {"--set", item});
   auto status_of = [](const core::ProcessResult& result) {
     if (!result.started()) std::cerr << "error: " << result.error << "\n";
@@ -254,7 +256,7 @@ int run_main(int argc, char** argv) {
       "(docs/speed-accuracy.md)");
   std::string vary, ladder_mesh, ladder_ppc, ladder_dt, inertial;
   std::vector<std::string> ladders;
-  int jobs = 1;
+  int jobs = 1, seeds = 1;
   convergence->add_option("case", case_file, "mpm/rheometer or dem case file (YAML)")->required();
   convergence->add_option("--out", out_dir,
                           "study directory (default runs/<case-name>_convergence)");
@@ -274,6 +276,11 @@ int run_main(int argc, char** argv) {
                           "dem: the inertial numbers at which every ladder runs (0.01,0.2)");
   convergence->add_option("--jobs", jobs, "dem: rungs run at the same time (default 1)")
       ->check(CLI::PositiveNumber);
+  convergence
+      ->add_option("--seeds", seeds,
+                   "dem: run every rung with N seeds (statistics.seeds) and compare the seed means "
+                   "with their between-seed standard errors (default 1)")
+      ->check(CLI::Range(1, 64));
   convergence->add_option("--set", sets, "override a case key in every run: key.path=value")
       ->take_all();
   convergence->add_flag("--force", force, "replace an existing study directory");
@@ -326,7 +333,7 @@ int run_main(int argc, char** argv) {
 
   if (convergence->parsed())
     return convergence_study(registry, {case_file, out_dir, sets, vary, ladder_mesh, ladder_ppc,
-                                        ladder_dt, ladders, inertial, jobs, force});
+                                        ladder_dt, ladders, inertial, jobs, seeds, force});
   if (report->parsed()) {
     try {
       std::cout << analysis::write_report(report_dir, registry).string() << "\n";

@@ -3,9 +3,12 @@
 // cases/dem/dry_point.yaml at I = 0.3, 2 strain, one rank: ~5 s per rung) writes study.csv with the
 // documented columns, study.md, study.json and pareto.png, and compares the small rung with the
 // reference (the larger); an unknown --vary name is exit 2 with one line and makes no directory.
+// With --seeds 2 a one-rung study (the base, 200 spheres, 2 seeds: ~8 s) reports the mean of the
+// seeds' μ, φ with the between-seed standard error and the steps of both runs.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -13,6 +16,7 @@
 #include <vector>
 
 #include "core/process.hpp"
+#include "core/run.hpp"
 #include "tests/dem/scratch_dir.hpp"
 
 namespace {
@@ -64,7 +68,8 @@ TEST(DemStudy, TwoRungParticleLadderWritesTheDocumentedColumns) {
   EXPECT_EQ(header,
             "row,n,inertial_target,ladder,label,reference,base,particles,strain,safety,stiffness,"
             "sample,shear_rate,inertial_number,steady,mu,mu_err,phi,phi_err,T,T_err,dmu_se,"
-            "dphi_se,dT_se,mu_error,phi_error,wall_s,steps,particle_steps,time_step,failed");
+            "dphi_se,dT_se,mu_error,phi_error,wall_s,steps,particle_steps,time_step,failed,"
+            "seeds,mu_scatter_ratio");
   const std::vector<std::string> names = split(header, ',');
   std::vector<std::vector<std::string>> rows;
   for (std::string line; std::getline(csv, line);) rows.push_back(split(line, ','));
@@ -104,6 +109,37 @@ TEST(DemStudy, TwoRungParticleLadderWritesTheDocumentedColumns) {
   EXPECT_NE(read(out / "study.md").find("particles 300 (base) *"), std::string::npos)
       << read(out / "study.md");
   EXPECT_NE(read(out / "study.json").find("\"study.0.mu_error\""), std::string::npos);
+  EXPECT_EQ(value(0, "seeds"), "1");
+}
+
+TEST(DemStudy, SeedsAreAveragedWithTheBetweenSeedError) {
+  const fs::path dir = fresh_directory("dem_study_seeds");
+  ASSERT_EQ(study(dir, {"--vary", "particles", "--ladder", "particles=200", "--inertial", "0.3",
+                        "--set", "dem.particles=200", "--seeds", "2"}),
+            0)
+      << read(dir / "cli.txt");
+  std::istringstream csv(read(dir / "study" / "study.csv"));
+  std::string header, line;
+  std::getline(csv, header);
+  std::getline(csv, line);
+  const std::vector<std::string> names = split(header, ','), row = split(line, ',');
+  auto value = [&](const std::string& name) {
+    for (std::size_t k = 0; k < names.size(); ++k)
+      if (names[k] == name) return std::stod(row.at(k));
+    ADD_FAILURE() << "no column " << name;
+    return 0.0;
+  };
+  // The rung's run: seeds 1 and 2 as its points 0 and 1.
+  const auto s = granflow::core::Summary::read(dir / "study" / "run_0" / "summary.json");
+  const double mu0 = s.get("steady.mu.0"), mu1 = s.get("steady.mu.1");
+  EXPECT_EQ(value("seeds"), 2.0);
+  EXPECT_NEAR(value("mu"), 0.5 * (mu0 + mu1), 1e-9);
+  EXPECT_NEAR(value("mu_err"), 0.5 * std::abs(mu0 - mu1), 1e-9);  // s/√2 of two values
+  EXPECT_NEAR(value("phi"), 0.5 * (s.get("steady.phi.0") + s.get("steady.phi.1")), 1e-9);
+  EXPECT_DOUBLE_EQ(value("steps"), s.get("cost.steps.0") + s.get("cost.steps.1"));
+  EXPECT_DOUBLE_EQ(value("particle_steps"), 200.0 * value("steps"));
+  EXPECT_EQ(value("dmu_se"), 0.0);  // the only rung is the reference
+  EXPECT_NE(read(dir / "study" / "study.md").find("mean over 2 seeds"), std::string::npos);
 }
 
 TEST(DemStudy, UnknownVaryNameIsOneLineExitTwo) {
