@@ -44,32 +44,42 @@ class YieldFunctionDiPrisco {
   // ∂f/∂σ alone (the d_stress of gradients(), same expressions).
   Tensor stress_gradient(const Tensor& stress, const Tensor& axis, double size) const {
     (void)size;  // ∂f/∂σ does not depend on r_c
-    const double sqrt3 = std::sqrt(3.0);
-    const double r = double_contraction(stress, axis);
-    const Tensor eta = (sqrt3 / r) * (stress - r * axis);
-    const Tensor eta2 = eta * eta;
-    const Tensor g_eta = -3.0 * gamma_ * eta2 + 2.0 * c2_ * eta;
-    const double g_sigma = double_contraction(g_eta, stress);
-    return (a_ / r) * axis + (sqrt3 / r) * (g_eta - (g_sigma / r) * axis);
+    return shape(stress, axis).d_stress(a_, axis);
   }
 
   YieldGradients gradients(const Tensor& stress, const Tensor& axis, double size) const {
-    const double sqrt3 = std::sqrt(3.0);
-    const double r = double_contraction(stress, axis);
-    const Tensor eta = (sqrt3 / r) * (stress - r * axis);
-    const Tensor eta2 = eta * eta;
-    const Tensor g_eta = -3.0 * gamma_ * eta2 + 2.0 * c2_ * eta;
-    const double g_sigma = double_contraction(g_eta, stress);
+    const Shape sh = shape(stress, axis);
     YieldGradients g;
-    g.value = a_ * std::log(r / size) - gamma_ * double_contraction(eta2, eta) +
-              c2_ * double_contraction(eta, eta);
-    g.d_stress = (a_ / r) * axis + (sqrt3 / r) * (g_eta - (g_sigma / r) * axis);
+    g.value = a_ * std::log(sh.r / size) - gamma_ * double_contraction(sh.eta2, sh.eta) +
+              c2_ * double_contraction(sh.eta, sh.eta);
+    g.d_stress = sh.d_stress(a_, axis);
     g.d_size = -a_ / size;
-    g.d_axis = (a_ / r) * stress - sqrt3 * ((g_sigma / (r * r)) * stress + g_eta);
+    g.d_axis = (a_ / sh.r) * stress - sh.sqrt3 * ((sh.g_sigma / (sh.r * sh.r)) * stress + sh.g_eta);
     return g;
   }
 
  private:
+  // The pieces ∂f/∂σ and ∂f/∂α share: r = σ:α, η = √3 (σ - r α)/r, η², g_η = ∂f/∂η, g_η:σ.
+  struct Shape {
+    double sqrt3, r;
+    Tensor eta, eta2, g_eta;
+    double g_sigma;
+    // ∂f/∂σ = (a/r) α + (√3/r) (g_η - (g_η:σ / r) α)
+    Tensor d_stress(double a, const Tensor& axis) const {
+      return (a / r) * axis + (sqrt3 / r) * (g_eta - (g_sigma / r) * axis);
+    }
+  };
+  Shape shape(const Tensor& stress, const Tensor& axis) const {
+    Shape sh;
+    sh.sqrt3 = std::sqrt(3.0);
+    sh.r = double_contraction(stress, axis);
+    sh.eta = (sh.sqrt3 / sh.r) * (stress - sh.r * axis);
+    sh.eta2 = sh.eta * sh.eta;
+    sh.g_eta = -3.0 * gamma_ * sh.eta2 + 2.0 * c2_ * sh.eta;
+    sh.g_sigma = double_contraction(sh.g_eta, stress);
+    return sh;
+  }
+
   double gamma_, a_, c2_;
 };
 
