@@ -263,6 +263,42 @@ TEST(TransientPair, FitRecoversTheParameterThatMadeTheTransient) {
   EXPECT_TRUE(bounded.at_bound[0]);
 }
 
+// A parameter outside force_chains, given by its key path: the contacts' viscous scale b_v
+// (liquid.viscous_contact) of an immersed loose packing, recovered from a transient the REV made
+// at b_v = 0.4 (started at 0.6). After the collapse b_v η0 γ̇ (ν_c − ν)^-m carries p' and τ, so
+// the residual fixes it.
+TEST(TransientPair, FitRecoversAKeyPathParameter) {
+  const auto schema = transient_pair_schema();
+  const auto c =
+      core::Case::parse(pair_case("unused"), "tiny.yaml",
+                        {"force_chains.e_Gamma=0.71", "force_chains.lambda_c=0.01",
+                         "strain.total=0.15", "liquid.enabled=true", "liquid.viscosity=1e-3",
+                         "liquid.viscous_contact=0.6", "collisional.inertial_contact_power=2.2"},
+                        schema);
+  EXPECT_EQ(fitted_key("liquid.viscous_contact"), "liquid.viscous_contact");
+  EXPECT_EQ(fitted_key("xi_psi"), "force_chains.xi_psi");
+  const double phi0 = 0.5745, p0 = 100.0;
+  rev::SimpleShearResult truth;
+  continuum_transient(with_force_chain_values(c, schema, {"liquid.viscous_contact"}, {0.4}), phi0,
+                      p0, truth);
+  DemTransient dem;
+  dem.phi0 = phi0, dem.p0 = p0;
+  for (double g = 0.005; g <= 0.15 + 1e-12; g += 0.005) {
+    dem.strain.push_back(g);
+    dem.p_mean.push_back(interpolate(truth.series.strain, truth.series.pressure, g));
+    dem.tau_mean.push_back(interpolate(truth.series.strain, truth.series.shear_stress, g));
+  }
+  dem.p_min = dem.p_max = dem.p_mean;
+  dem.tau_min = dem.tau_max = dem.tau_mean;
+  // the viscous share is what the liquefied packing carries: well above kinetic theory's here
+  EXPECT_GT(truth.series.inertial_contact_pressure.back(), 0.5 * truth.series.pressure.back());
+  const auto fit = fit_force_chains(c, schema, {"liquid.viscous_contact"}, dem);
+  EXPECT_DOUBLE_EQ(fit.start[0], 0.6);
+  // the same model at the same strains: exact up to the stress integration (1e-5) and the 1 %
+  // difference steps: 1 %
+  EXPECT_NEAR(fit.estimate[0], 0.4, 0.004) << "after " << fit.evaluations << " REV runs";
+}
+
 TEST(TransientPair, NeedsAPreparationAndConstantVolume) {
   const auto schema = transient_pair_schema();
   auto text = pair_case("somewhere");
