@@ -45,7 +45,6 @@ void MultiRegimeMaterial::attach(std::size_t begin, std::size_t end) {
   for (auto* a : {&fc_xx_, &fc_yy_, &fc_zz_, &fc_xy_, &chi_xx_, &chi_yy_, &chi_zz_, &chi_xy_, &r_c_,
                   &void_ratio_, &collisional_pressure_, &shear_rate_})
     a->assign(n, 0.0);
-  substep_.assign(n, 1.0);
 }
 
 void MultiRegimeMaterial::set_internal_length(double length, double overnonlocal) {
@@ -123,7 +122,6 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
     fc.stress << fc_xx_[k], fc_xy_[k], 0, fc_xy_[k], fc_yy_[k], 0, 0, 0, fc_zz_[k];
     fc.chi << chi_xx_[k], chi_xy_[k], 0, chi_xy_[k], chi_yy_[k], 0, 0, 0, chi_zz_[k];
     fc.r_c = r_c_[k];
-    fc.substep = substep_[k];
     fc.void_ratio = 1.0 / st.solid_fraction - 1.0;
     // compression-positive strain rate of the model: ε̇ = -D (plane strain, D_zz = 0)
     Eigen::Matrix3d strain_rate;
@@ -145,7 +143,6 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
     chi_zz_[k] = st.force_chains.chi(2, 2);
     chi_xy_[k] = 0.5 * (st.force_chains.chi(0, 1) + st.force_chains.chi(1, 0));
     r_c_[k] = st.force_chains.r_c;
-    substep_[k] = st.force_chains.substep;
     void_ratio_[k] = st.force_chains.void_ratio;
     collisional_pressure_[k] = parts.collisional_pressure;
     shear_rate_[k] = continuum::MultiRegimePoint::shear_rate(strain_rate);
@@ -229,10 +226,9 @@ void MultiRegimeMaterial::average_softening(const StressUpdateView& v) {
 
 std::vector<std::pair<std::string, std::vector<double>*>> MultiRegimeMaterial::state() {
   std::vector<std::pair<std::string, std::vector<double>*>> s = {
-      {"fc_xx", &fc_xx_},           {"fc_yy", &fc_yy_},       {"fc_zz", &fc_zz_},
-      {"fc_xy", &fc_xy_},           {"chi_xx", &chi_xx_},     {"chi_yy", &chi_yy_},
-      {"chi_zz", &chi_zz_},         {"chi_xy", &chi_xy_},     {"r_c", &r_c_},
-      {"void_ratio", &void_ratio_}, {"fc_substep", &substep_}};
+      {"fc_xx", &fc_xx_},   {"fc_yy", &fc_yy_},          {"fc_zz", &fc_zz_},   {"fc_xy", &fc_xy_},
+      {"chi_xx", &chi_xx_}, {"chi_yy", &chi_yy_},        {"chi_zz", &chi_zz_}, {"chi_xy", &chi_xy_},
+      {"r_c", &r_c_},       {"void_ratio", &void_ratio_}};
   if (nonlocal_) {  // with ℓ > 0 only: the checkpoint of ℓ = 0 is unchanged
     s.emplace_back("nonlocal_x", &built_x_);
     s.emplace_back("nonlocal_y", &built_y_);

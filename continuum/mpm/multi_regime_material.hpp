@@ -2,8 +2,8 @@
 // temperature T; seed Eq. 7, 19, 24; docs/model/multi_regime.md, §6) as an MPM solid material. One
 // call per step over the material's range of points; the state lives in this object's own arrays
 // (structure of arrays, indexed by point - begin): σ_FC (xx, yy, zz, xy), the yield-locus axis χ
-// (xx, yy, zz, xy), r_c, e and the first sub-step of the next force-chain update. T is the solver's
-// solid-point array (carried by the points, remapped and conducted by the solver).
+// (xx, yy, zz, xy), r_c and e. T is the solver's solid-point array (carried by the points, remapped
+// and conducted by the solver).
 //
 // Coupling to the double-point solver (docs/rheometer.md):
 //  * signs (docs/model/conventions.md): the model is compression positive, ε̇ = -D; the solver's
@@ -86,8 +86,6 @@ class MultiRegimeMaterial final : public SolidMaterial {
   std::vector<double> fc_xx_, fc_yy_, fc_zz_, fc_xy_;
   std::vector<double> chi_xx_, chi_yy_, chi_zz_, chi_xy_;
   std::vector<double> r_c_, void_ratio_;
-  // first sub-step of the next force-chain update (ForceChainState::substep), per point
-  std::vector<double> substep_;
   // diagnostics of the last update
   std::vector<double> collisional_pressure_, shear_rate_;
   double max_effective_pressure_ = 0.0;

@@ -86,7 +86,7 @@ TEST(MpmRheometerMaterial, BatchUpdateEqualsThePointModel) {
   EXPECT_GT(conductivity[2], 0.0);  // sheared at 100 1/s: T > 0, so κ_T > 0
   // The skeleton sheared: σ_xy non-zero (the test cannot pass on an idle material).
   EXPECT_GT(std::fabs(sp.sxy[0]), 100.0);
-  EXPECT_EQ(m.state().size(), 11u);  // σ_FC (4), χ (4), r_c, e, first sub-step: checkpointed
+  EXPECT_EQ(m.state().size(), 10u);  // σ_FC (4), χ (4), r_c, e: checkpointed
 }
 
 TEST(MpmRheometerMaterial, BuiltFromTypedSettingsAndInitialState) {

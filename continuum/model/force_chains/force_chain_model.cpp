@@ -18,9 +18,6 @@ constexpr double kYieldClip = 1.0e3;
 // locus inside the no-tension cone, exp(-17.25/(3β_f(γ-3))) at σ_3 = 0 in compression for an
 // isotropic axis (0.03 for the defaults, 3e-5 for β_f = 0.5, γ = 4.1).
 constexpr double kApexRatio = 1.0e-9;
-// Smallest first sub-step taken from the previous increment (ForceChainState::substep): a hard
-// increment does not make the next ones start from tiny sub-steps that grow by 1.1 at most.
-constexpr double kMinFirstSubstep = 0.05;
 }  // namespace
 
 ForceChainModel::ForceChainModel(ForceChainParameters parameters)
@@ -225,8 +222,7 @@ double ForceChainModel::elastic_fraction(const Point& y, const Tensor& strain, d
   return alpha;
 }
 
-double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& info,
-                                  double& substep) const {
+double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& info) const {
   const Tensor trial = elastic_.finite_update(y.stress, strain);
   const double f_trial = safe_yield(trial, y.chi, y.r_c);
   if (f_trial <= par_.yield_tolerance) {
@@ -246,12 +242,9 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& in
   const Tensor rest = (1.0 - alpha) * strain;
   const bool fixed = par_.fixed_substeps > 0;
   const double stol = par_.stress_tolerance;
-  // First sub-step: the size the error control found for the previous increment of this point
-  // (ForceChainState::substep), not the whole increment. The increments of consecutive driver
-  // steps are alike, so the step that would be rejected first (and the two plastic_rates it
-  // costs) is saved; the error control and STOL are unchanged.
-  double t = 0.0,
-         dt = fixed ? 1.0 / par_.fixed_substeps : std::clamp(substep, kMinFirstSubstep, 1.0);
+  // The first sub-step is the whole increment (the update depends on the state and the increment
+  // only, not on the history of earlier sub-step sizes, so a stationary path stays stationary).
+  double t = 0.0, dt = fixed ? 1.0 / par_.fixed_substeps : 1.0;
   bool last_failed = false;
   int attempts = 0;
   double dt_budget = 0.0;  // once max_substeps is spent: the rest in at most 64 forced steps
@@ -320,9 +313,6 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& in
     info.yield_value = correct_drift(y);
     if (!fixed) {
       double factor = error > 0.0 ? 0.9 * std::sqrt(stol / error) : 1.1;
-      // the size this sub-step's error asks for (local error ∝ Δ², Sloan et al. 2001 Eq. 37)
-      // without the growth limit: the first sub-step of the next increment
-      substep = std::min(dt * factor, 1.0);
       factor = std::clamp(factor, 0.1, last_failed ? 1.0 : 1.1);
       dt *= factor;
       last_failed = false;
@@ -387,7 +377,7 @@ UpdateInfo ForceChainModel::update(ForceChainState& state, const Eigen::Matrix3d
   Point y{state.stress, state.chi, state.plastic_strain, state.r_c, state.void_ratio};
   Tensor remaining = strain_increment;
   for (int pass = 0; pass < 3; ++pass) {
-    const double left = integrate(y, remaining, info, state.substep);
+    const double left = integrate(y, remaining, info);
     if (y.r_c < par_.fluidization_size || left <= 0.0) break;
     info.contact_loss = true;
     y.stress.setZero();

@@ -33,9 +33,6 @@ struct ForceChainState {
   double void_ratio = 0.7;  // e, updated from the volumetric strain: 1+e ∝ exp(-ε_v)
   Eigen::Matrix3d plastic_strain = Eigen::Matrix3d::Zero();  // accumulated ε^p (bookkeeping)
   bool fluidized = false;  // true: no enduring contacts, σ_FC = 0
-  // First sub-step of the next plastic update, as a fraction of its increment: the size the
-  // error control asked for at the end of the last one (1: the whole increment first).
-  double substep = 1.0;
 };
 
 struct UpdateInfo {
@@ -103,8 +100,7 @@ class ForceChainModel {
   double elastic_fraction(const Point& y, const Tensor& strain, double f0, double f1) const;
   // Integrates `strain` from y; returns the fraction of `strain` left when the stress path hits
   // the stress-free apex (0 when the whole increment was integrated).
-  // `substep`: the first sub-step (fraction of `strain`) in, the size asked for at the end out.
-  double integrate(Point& y, const Tensor& strain, UpdateInfo& info, double& substep) const;
+  double integrate(Point& y, const Tensor& strain, UpdateInfo& info) const;
   void apex_flow(Point& y, const Tensor& strain) const;
 
   ForceChainParameters par_;
