@@ -218,6 +218,22 @@ TEST(TransientPair, ContinuumLiquefiesALooseSampleNotADenseOne) {
               pl.back());
 }
 
+// The REV's own transient at φ0 0.5745, p0 100 Pa as a "DEM" for the fit: p'(γ), τ(γ) sampled every
+// 0.005 up to `total`, with a zero band (σ = the 1 % p0 floor).
+DemTransient transient_as_dem(const core::Case& c, double total, rev::SimpleShearResult& truth) {
+  DemTransient dem;
+  dem.phi0 = 0.5745, dem.p0 = 100.0;
+  continuum_transient(c, dem.phi0, dem.p0, truth);
+  for (double g = 0.005; g <= total + 1e-12; g += 0.005) {
+    dem.strain.push_back(g);
+    dem.p_mean.push_back(interpolate(truth.series.strain, truth.series.pressure, g));
+    dem.tau_mean.push_back(interpolate(truth.series.strain, truth.series.shear_stress, g));
+  }
+  dem.p_min = dem.p_max = dem.p_mean;
+  dem.tau_min = dem.tau_max = dem.tau_mean;
+  return dem;
+}
+
 // The fit recovers a force-chain parameter from a transient the continuum itself made (two paths:
 // the forward run at ξ_ψ = 8, the fit from the case's ξ_ψ = 12). The "DEM" here is the REV's
 // own p'(γ), τ(γ) on a loose packing with the quasi-static line (e_Γ 0.71, λ_c 0.01), which
@@ -228,18 +244,9 @@ TEST(TransientPair, FitRecoversTheParameterThatMadeTheTransient) {
                                    {"force_chains.e_Gamma=0.71", "force_chains.lambda_c=0.01",
                                     "force_chains.xi_psi=12", "strain.total=0.15"},
                                    schema);
-  const double phi0 = 0.5745, p0 = 100.0;
   rev::SimpleShearResult truth;
-  continuum_transient(with_force_chain_values(c, schema, {"xi_psi"}, {8.0}), phi0, p0, truth);
-  DemTransient dem;
-  dem.phi0 = phi0, dem.p0 = p0;
-  for (double g = 0.005; g <= 0.15 + 1e-12; g += 0.005) {
-    dem.strain.push_back(g);
-    dem.p_mean.push_back(interpolate(truth.series.strain, truth.series.pressure, g));
-    dem.tau_mean.push_back(interpolate(truth.series.strain, truth.series.shear_stress, g));
-  }
-  dem.p_min = dem.p_max = dem.p_mean;
-  dem.tau_min = dem.tau_max = dem.tau_mean;
+  const DemTransient dem =
+      transient_as_dem(with_force_chain_values(c, schema, {"xi_psi"}, {8.0}), 0.15, truth);
   const auto fit = fit_force_chains(c, schema, {"xi_psi"}, dem);
   ASSERT_EQ(fit.estimate.size(), 1u);
   EXPECT_DOUBLE_EQ(fit.start[0], 12.0);
@@ -277,19 +284,9 @@ TEST(TransientPair, FitRecoversAKeyPathParameter) {
                         schema);
   EXPECT_EQ(fitted_key("liquid.viscous_contact"), "liquid.viscous_contact");
   EXPECT_EQ(fitted_key("xi_psi"), "force_chains.xi_psi");
-  const double phi0 = 0.5745, p0 = 100.0;
   rev::SimpleShearResult truth;
-  continuum_transient(with_force_chain_values(c, schema, {"liquid.viscous_contact"}, {0.4}), phi0,
-                      p0, truth);
-  DemTransient dem;
-  dem.phi0 = phi0, dem.p0 = p0;
-  for (double g = 0.005; g <= 0.15 + 1e-12; g += 0.005) {
-    dem.strain.push_back(g);
-    dem.p_mean.push_back(interpolate(truth.series.strain, truth.series.pressure, g));
-    dem.tau_mean.push_back(interpolate(truth.series.strain, truth.series.shear_stress, g));
-  }
-  dem.p_min = dem.p_max = dem.p_mean;
-  dem.tau_min = dem.tau_max = dem.tau_mean;
+  const DemTransient dem = transient_as_dem(
+      with_force_chain_values(c, schema, {"liquid.viscous_contact"}, {0.4}), 0.15, truth);
   // the viscous share is what the liquefied packing carries: well above kinetic theory's here
   EXPECT_GT(truth.series.inertial_contact_pressure.back(), 0.5 * truth.series.pressure.back());
   const auto fit = fit_force_chains(c, schema, {"liquid.viscous_contact"}, dem);
