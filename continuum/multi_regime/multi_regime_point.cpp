@@ -89,19 +89,27 @@ StressParts MultiRegimePoint::evaluate(const PointState& state,
 RiccatiCoefficients MultiRegimePoint::temperature_equation(
     const PointState& state, const Eigen::Matrix3d& strain_rate,
     const model::CollisionalCoefficients& c) const {
-  // The coefficients of evaluate() below (same expressions, same order), without the stresses.
-  const double nu = state.solid_fraction;
-  const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
-  const Eigen::Matrix3d deviator = strain_rate - strain_rate.trace() / 3.0 * identity;
+  // The coefficients of evaluate() below, without the stresses.
+  const Eigen::Matrix3d deviator =
+      strain_rate - strain_rate.trace() / 3.0 * Eigen::Matrix3d::Identity();
   const double deviator_norm2 = deviator.cwiseProduct(deviator).sum();  // ε̇':ε̇'
-  const auto& p = settings_.collisional_parameters;
-  const double T = state.granular_temperature;
   const double gamma_dot = std::sqrt(2.0 * deviator_norm2);
+  const double L = model::correlation_length(settings_.collisional_parameters, c, gamma_dot,
+                                             state.granular_temperature);
+  return riccati(state.solid_fraction, deviator_norm2, strain_rate.trace(), c, L);
+}
+
+RiccatiCoefficients MultiRegimePoint::riccati(double nu, double deviator_norm2, double trace,
+                                              const model::CollisionalCoefficients& c,
+                                              double correlation_length) const {
+  // Coefficients of ds/dt (granular_temperature_update.hpp), divided through by (3/2) ρ_p ν and 2s.
+  const auto& p = settings_.collisional_parameters;
   RiccatiCoefficients k;
   k.a = 2.0 * p.diameter * c.f2 * deviator_norm2 / (3.0 * nu);
-  k.b = c.f3 / (3.0 * nu * model::correlation_length(p, c, gamma_dot, T));
-  k.c = -c.f1 * strain_rate.trace() / (3.0 * nu);
+  k.b = c.f3 / (3.0 * nu * correlation_length);
+  k.c = -c.f1 * trace / (3.0 * nu);  // compaction (tr ε̇ > 0) heats
   if (settings_.fluctuation_dissipation) {
+    // Λ = 54 ν η0 R_diss T / d² -> c += 54 ν η0 R_diss / (3 ν ρ_p d²) ... written via Λ/T
     const double lambda_over_T = model::liquid_fluctuation_dissipation(settings_.liquid_parameters,
                                                                        p.diameter, nu, c.g0, 1.0);
     k.c += lambda_over_T / (3.0 * nu * p.particle_density);
@@ -133,20 +141,11 @@ StressParts MultiRegimePoint::evaluate(const PointState& state, const Eigen::Mat
         parts.collisional_pressure * identity + 2.0 * parts.collisional_viscosity * deviator;
     parts.collisional_power = parts.collisional_pressure * strain_rate.trace() +
                               2.0 * parts.collisional_viscosity * deviator_norm2;
-    // Riccati coefficients of ds/dt (granular_temperature_update.hpp), divided through by
-    // (3/2) ρ_p ν and 2 s.
-    RiccatiCoefficients& k = parts.temperature_equation;
-    k.a = 2.0 * p.diameter * c.f2 * deviator_norm2 / (3.0 * nu);
-    k.b = c.f3 / (3.0 * nu * parts.correlation_length);
-    k.c = -c.f1 * strain_rate.trace() / (3.0 * nu);  // compaction (tr ε̇ > 0) heats
-    if (settings_.fluctuation_dissipation) {
-      const auto& l = settings_.liquid_parameters;
-      parts.liquid_dissipation = model::liquid_fluctuation_dissipation(l, p.diameter, nu, c.g0, T);
-      // Λ = 54 ν η0 R_diss T / d² -> c += 54 ν η0 R_diss / (3 ν ρ_p d²) ... written via Λ/T
-      const double lambda_over_T =
-          model::liquid_fluctuation_dissipation(l, p.diameter, nu, c.g0, 1.0);
-      k.c += lambda_over_T / (3.0 * nu * p.particle_density);
-    }
+    parts.temperature_equation =
+        riccati(nu, deviator_norm2, strain_rate.trace(), c, parts.correlation_length);
+    if (settings_.fluctuation_dissipation)
+      parts.liquid_dissipation = model::liquid_fluctuation_dissipation(settings_.liquid_parameters,
+                                                                       p.diameter, nu, c.g0, T);
   }
   if (contact_stress_on(settings_)) {
     // σ_IC = p_IC I + 2 η_IC ε̇', η_IC = μ_IC p_IC / γ̇ (in simple shear τ_IC = μ_IC p_IC); its

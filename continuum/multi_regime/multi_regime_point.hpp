@@ -34,8 +34,8 @@ struct MultiRegimeSettings {
   // liquid on), as the mixed number K = J + α I² of Trulsson et al. (2012) adds them,
   // ν_c the jamming fraction of g0, μ_IC the contacts' friction (collisional.
   // inertial_contact_friction; 0: the force chains' critical state friction in plane strain,
-  // M(θ = 0)/√3 of force_chain_parameters). a_c = 0 switches it off (the seed's model) and costs
-  // one branch.
+  // M(θ = 0)/√3 of force_chain_parameters). a_c = 0 and b_v = 0 (the defaults) switch it off
+  // (the seed's model) at the cost of one branch.
   double inertial_contact = 0.0;
   double inertial_contact_power = 2.0;
   double inertial_contact_friction = 0.0;
@@ -136,6 +136,11 @@ class MultiRegimePoint {
   RiccatiCoefficients temperature_equation(const PointState& state,
                                            const Eigen::Matrix3d& strain_rate,
                                            const model::CollisionalCoefficients& c) const;
+  // The Riccati coefficients from ν, ε̇':ε̇', tr ε̇, the coefficients at ν and L (one expression
+  // for evaluate() and temperature_equation()).
+  RiccatiCoefficients riccati(double nu, double deviator_norm2, double trace,
+                              const model::CollisionalCoefficients& c,
+                              double correlation_length) const;
 
   MultiRegimeSettings settings_;
   double inertial_contact_friction_ = 0.0;  // μ_IC
