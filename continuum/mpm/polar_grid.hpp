@@ -28,7 +28,8 @@ class PolarGrid {
         half_cos_(std::cos(0.5 * dt_)),
         half_sin_(std::sin(0.5 * dt_)),
         inv_half_cos_(1.0 / half_cos_),
-        inv_dr_(1.0 / dr_) {
+        inv_dr_(1.0 / dr_),
+        half_cot_(0.5 * half_cos_ / half_sin_) {
     x_.resize(nodes());
     y_.resize(nodes());
     ray_x_.resize(nt_ + 1);
@@ -97,11 +98,7 @@ class PolarGrid {
     static_assert(shape == ShapeKind::linear, "PolarGrid supports linear shape functions only");
     if (!(x == x) || !(y == y)) return false;
     int j = std::min(static_cast<int>(approximate_angle(x, y) * inv_dt_), nt_ - 1);
-    // canonical sector: e_j × x >= 0 and e_j+1 × x < 0
-    for (int k = 0; k < nt_ && ray_x_[j] * y - ray_y_[j] * x < 0.0; ++k)
-      j = j > 0 ? j - 1 : nt_ - 1;
-    for (int k = 0; k < nt_ && ray_x_[j + 1] * y - ray_y_[j + 1] * x >= 0.0; ++k)
-      j = j + 1 < nt_ ? j + 1 : 0;
+    j = canonical_sector(x, y, j);
     const double bc = bisector_x_[j], bs = bisector_y_[j];
     const double xp = bc * x + bs * y, yp = -bs * x + bc * y;  // cell frame
     const double u = (xp * inv_half_cos_ - r0_) * inv_dr_;
@@ -138,7 +135,60 @@ class PolarGrid {
     return true;
   }
 
+  // The same cell and functions as stencil(), as the two rows of a QuadStencil: nodes (i, j),
+  // (i+1, j) and (i, j+1), (i+1, j+1). `sector` is the first guess of j (the point's sector at
+  // its last location; outside [0, nθ): none, the polynomial angle is used) and receives the
+  // point's sector. One division instead of stencil()'s three: on the point r_i + ξ Δr = x'/c,
+  // so with d = 2 (r_i + ξ Δr) s = 2 x' s/c and a = Δr c the cell-frame Jacobian
+  // J' = [[a, 0], [b, d]], b = Δr s (2η − 1), has
+  //   J'^-T = [[1/a, −b/(a d)], [0, 1/d]],   1/d = (c/(2 s)) / x',   η = ((c/s) y'/x' + 1)/2,
+  // and ∇N = R(φ_j) J'^-T ∇_ξη N (R(φ_j) J' = J of stencil(); R is orthogonal, so J^-T = R J'^-T).
+  bool quad(double x, double y, int& sector, QuadStencil& q) const {
+    if (!(x == x) || !(y == y)) return false;
+    int j = sector >= 0 && sector < nt_
+                ? sector
+                : std::min(static_cast<int>(approximate_angle(x, y) * inv_dt_), nt_ - 1);
+    j = canonical_sector(x, y, j);
+    const double bc = bisector_x_[j], bs = bisector_y_[j];
+    const double xp = bc * x + bs * y, yp = -bs * x + bc * y;  // cell frame
+    if (!(xp > 0.0)) return false;
+    const double u = (xp * inv_half_cos_ - r0_) * inv_dr_;
+    const int i = std::clamp(static_cast<int>(std::floor(u)), 0, nr_ - 1);
+    double xi = u - i;
+    constexpr double slack = 1e-9;  // round-off on a cell edge
+    if (xi < -slack || xi > 1.0 + slack) return false;
+    xi = std::clamp(xi, 0.0, 1.0);
+    sector = j;
+    const double inv_xp = 1.0 / xp;
+    const double eta = std::clamp(yp * inv_xp * half_cot_ + 0.5, 0.0, 1.0);
+    const double inv_a = inv_dr_ * inv_half_cos_, inv_d = inv_xp * half_cot_;
+    const double b_inv_ad = dr_ * half_sin_ * (2.0 * eta - 1.0) * inv_a * inv_d;  // b/(a d)
+    const double N[4] = {(1 - xi) * (1 - eta), xi * (1 - eta), (1 - xi) * eta, xi * eta};
+    const double dxi[4] = {-(1 - eta), (1 - eta), -eta, eta};
+    const double deta[4] = {-(1 - xi), -xi, (1 - xi), xi};
+    const int row = nr_ + 1;
+    q.node[0] = i + row * j;
+    q.node[1] = i + row * (j + 1 < nt_ ? j + 1 : 0);
+    for (int a = 0; a < 4; ++a) {
+      const double gx = inv_a * dxi[a] - b_inv_ad * deta[a], gy = inv_d * deta[a];  // ∇'N
+      q.N[a] = N[a];
+      q.dNdx[a] = bc * gx - bs * gy;
+      q.dNdy[a] = bs * gx + bc * gy;
+    }
+    return true;
+  }
+
  private:
+  // The canonical sector of (x, y) from a guess j: e_j × x >= 0 and e_j+1 × x < 0 (unique: the
+  // test of ray j+1 is the same expression for sectors j and j+1).
+  int canonical_sector(double x, double y, int j) const {
+    for (int k = 0; k < nt_ && ray_x_[j] * y - ray_y_[j] * x < 0.0; ++k)
+      j = j > 0 ? j - 1 : nt_ - 1;
+    for (int k = 0; k < nt_ && ray_x_[j + 1] * y - ray_y_[j + 1] * x >= 0.0; ++k)
+      j = j + 1 < nt_ ? j + 1 : 0;
+    return j;
+  }
+
   struct Jac {
     double xx, xy, yx, yy;  // ∂x/∂ξ, ∂x/∂η, ∂y/∂ξ, ∂y/∂η
   };
@@ -177,6 +227,7 @@ class PolarGrid {
   int nr_, nt_;
   double dr_, dt_;
   double inv_dt_, half_cos_, half_sin_, inv_half_cos_, inv_dr_;
+  double half_cot_;  // cot(Δθ/2)/2
   std::vector<double> x_, y_;
   // unit vectors of the radial lines θ_j (j = 0..nθ, the last = the first) and of the cells'
   // bisectors φ_j

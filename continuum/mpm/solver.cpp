@@ -86,14 +86,10 @@ void Solver::initialize() {
     const std::size_t n = phase == 0 ? solid_.size() : liquid_.size();
     displacement_x_[phase].assign(n, 0.0);
     displacement_y_[phase].assign(n, 0.0);
-    StencilCache& c = cache_[phase];
-    c.stride = 4;  // the cache serves the polar grid (linear shapes) only
-    const std::size_t m = std::holds_alternative<PolarGrid>(grid_) ? n * c.stride : 0;
-    c.count.assign(m > 0 ? n : 0, 0);
-    c.node.assign(m, 0);
-    c.N.assign(m, 0.0);
-    c.dNdx.assign(m, 0.0);
-    c.dNdy.assign(m, 0.0);
+    StencilCache& c = cache_[phase];  // the polar grid's only
+    const std::size_t m = std::holds_alternative<PolarGrid>(grid_) ? n : 0;
+    c.quad.assign(m, QuadStencil{{-1, -1}, {}, {}, {}});
+    c.sector.assign(m, -1);
     c.valid = false;
     CellCache& q = cells_[phase];
     const auto* cartesian = std::get_if<CartesianGrid>(&grid_);

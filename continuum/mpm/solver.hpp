@@ -194,17 +194,24 @@ class Solver {
   // acc_ on thread t's share of the nodes = the per-thread buffers summed in thread order.
   void reduce_part(int fields, int t);
   // The stencil of point p of a phase (0 solid, 1 liquid) at the start of the step; on the polar
-  // grid (an atan2 and a Newton solve per location) located once per step, then cached.
+  // grid (a closed-form location, dearer than the Cartesian one) located once per step, then
+  // cached.
   template <class G, ShapeKind S>
   bool locate(const G& grid, int phase, std::size_t p, Stencil& st);
-  // Cartesian grid, linear shapes (solver_quad.cpp): the same three pieces on fixed 2 x 2
+  // Linear shapes on either grid (solver_quad.cpp): the same three pieces on fixed 2 x 2
   // stencils held as two rows of two adjacent nodes, each row one packed vector; the points of
-  // the thread's chunk are located once per step (locate_cells) and kept in cells_.
-  void map_first_quad(const CartesianGrid& grid, int t);
-  void update_points_quad(const CartesianGrid& grid, int t, bool remap);
-  void velocity_gradients_quad(const CartesianGrid& grid, int t, bool liquid_extras);
+  // the thread's chunk are located once per step (locate_cells) and kept in cells_ (Cartesian)
+  // or cache_ (polar).
+  template <class G>
+  void map_first_quad(const G& grid, int t);
+  template <class G>
+  void update_points_quad(const G& grid, int t, bool remap);
+  template <class G>
+  void velocity_gradients_quad(const G& grid, int t, bool liquid_extras);
   // Locate points [b, e) of a phase into cells_ in one vectorised pass (outside: node -1).
   void locate_cells(const CartesianGrid& grid, int phase, std::size_t b, std::size_t e);
+  // Polar: locate points [b, e) of a phase into cache_ (outside: node[0] = -1).
+  void locate_cells(const PolarGrid& grid, int phase, std::size_t b, std::size_t e);
   void solve_porosity_only();
   void refresh_liquid_state();
   template <class G>
@@ -257,11 +264,11 @@ class Solver {
     std::vector<double> xi, eta;
     double inv_hx = 0, inv_hy = 0;
   } cells_[2];
+  // Polar grid: the stencil of each point (node[0] = -1: outside the grid) and its sector at the
+  // last location (the first guess of the next).
   struct StencilCache {
-    int stride = 4;          // entries per point
-    std::vector<int> count;  // 0: the point is outside the grid
-    std::vector<int> node;
-    std::vector<double> N, dNdx, dNdy;
+    std::vector<QuadStencil> quad;
+    std::vector<int> sector;
     bool valid = false;
   } cache_[2];
 

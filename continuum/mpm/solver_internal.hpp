@@ -38,10 +38,10 @@ inline void node_share(int nn, int t, int T, int& b, int& e) {
   e = static_cast<int>(static_cast<long>(nn) * (t + 1) / T);
 }
 
-// A Cartesian grid with linear shapes has stencils of a fixed width (the 4 nodes of the cell),
-// which solver_quad.cpp maps with packed operations; other grids and shapes use Stencil.
+// Linear shapes have stencils of a fixed width (the 4 nodes of the cell) on both grids, which
+// solver_quad.cpp maps with packed operations; GIMP uses Stencil.
 template <class G, ShapeKind S>
-inline constexpr bool fixed_quad = std::is_same_v<G, CartesianGrid>&& S == ShapeKind::linear;
+inline constexpr bool fixed_quad = S == ShapeKind::linear;
 
 // The span [begin, end) of nodes a thread's scatter touched.
 struct NodeSpan {
@@ -153,27 +153,19 @@ inline bool Solver::locate(const G& grid, int phase, std::size_t p, Stencil& st)
   const PointFields& pts = phase == 0 ? static_cast<const PointFields&>(solid_)
                                       : static_cast<const PointFields&>(liquid_);
   if constexpr (std::is_same_v<G, PolarGrid>) {
+    static_assert(S == ShapeKind::linear);
     StencilCache& c = cache_[phase];
-    const std::size_t o = p * static_cast<std::size_t>(c.stride);
-    if (c.valid) {
-      st.count = c.count[p];
-      for (int k = 0; k < st.count; ++k) {
-        st.node[k] = c.node[o + k];
-        st.N[k] = c.N[o + k];
-        st.dNdx[k] = c.dNdx[o + k];
-        st.dNdy[k] = c.dNdy[o + k];
-      }
-      return st.count > 0;
+    QuadStencil& q = c.quad[p];
+    if (!c.valid && !grid.quad(pts.x[p], pts.y[p], c.sector[p], q)) q.node[0] = -1;
+    if (q.node[0] < 0) return false;
+    st.count = 4;
+    for (int k = 0; k < 4; ++k) {
+      st.node[k] = q.node[k / 2] + k % 2;
+      st.N[k] = q.N[k];
+      st.dNdx[k] = q.dNdx[k];
+      st.dNdy[k] = q.dNdy[k];
     }
-    const bool inside = grid.template stencil<S>(pts.x[p], pts.y[p], 0.0, 0.0, st);
-    c.count[p] = inside ? st.count : 0;
-    for (int k = 0; inside && k < st.count; ++k) {
-      c.node[o + k] = st.node[k];
-      c.N[o + k] = st.N[k];
-      c.dNdx[o + k] = st.dNdx[k];
-      c.dNdy[o + k] = st.dNdy[k];
-    }
-    return inside;
+    return true;
   } else {
     // Cartesian: locating is a few flops, cheaper than reading a cache.
     return grid.template stencil<S>(pts.x[p], pts.y[p], options_.gimp_half_length_x,

@@ -1,13 +1,18 @@
-// The particle-grid maps of the Solver's step (solver_maps.cpp has the general ones) for a
-// Cartesian grid with linear shapes, where every stencil is the 2 x 2 nodes of the point's cell:
-// two rows of two adjacent nodes, (a, a+1) and (a + nx + 1, a + nx + 2). A row's shape values
-// are one 2-vector (Eigen::Array2d), so a nodal field of a row is read or updated with one packed
-// operation; the points are located once per step in a loop the compiler vectorises. The values
-// are those of CartesianGrid::stencil and the sums run in its node order, operation for
-// operation, so the results equal the general maps' bit for bit (docs/mpm.md, docs/performance.md).
+// The particle-grid maps of the Solver's step (solver_maps.cpp has the general ones) for linear
+// shapes, where every stencil is the 2 x 2 nodes of the point's cell: two rows of two adjacent
+// nodes, on the Cartesian grid (a, a+1) and (a + nx + 1, a + nx + 2), on the polar grid (i, j),
+// (i+1, j) and (i, j+1), (i+1, j+1) (QuadStencil). A row's shape values are one 2-vector
+// (Eigen::Array2d), so a nodal field of a row is read or updated with one packed operation. On
+// the Cartesian grid the points are located once per step in a loop the compiler vectorises, and
+// the values are those of CartesianGrid::stencil with the sums in its node order, operation for
+// operation, so the results equal the general maps' bit for bit (docs/mpm.md,
+// docs/performance.md). On the polar grid the stencils of PolarGrid::quad are cached for the step;
+// the sums run row by row (nodes (i,j), (i+1,j), (i,j+1), (i+1,j+1)), which changes round-off
+// only against the general maps' order.
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "continuum/mpm/solver_internal.hpp"
 
@@ -59,6 +64,22 @@ inline double dot(const QuadRows& q, const Pair* w, const double* f) {
 }
 inline double sum(const Pair& r0, const Pair& r1) { return ((r0(0) + r0(1)) + r1(0)) + r1(1); }
 
+// The polar grid's located stencils (Solver::cache_, PolarGrid::quad) as QuadRows.
+struct QuadView {
+  const QuadStencil* quad;
+  bool rows(std::size_t p, QuadRows& q) const {
+    const QuadStencil& s = quad[p];
+    if (s.node[0] < 0) return false;
+    for (int r = 0; r < 2; ++r) {
+      q.node[r] = s.node[r];
+      q.N[r] = ConstRow(s.N + 2 * r);
+      q.dNdx[r] = ConstRow(s.dNdx + 2 * r);
+      q.dNdy[r] = ConstRow(s.dNdy + 2 * r);
+    }
+    return true;
+  }
+};
+
 // The velocity gradient L = Σ_a v_a ⊗ ∇N_a at one point and, with `extras` (liquid points),
 // tr(D_S), the porosity n there and, with Forchheimer drag, |u_L - u_S|; handed to `store` as
 // store(Lxx, Lxy, Lyx, Lyy, div_s, n_at) (Solver::store_gradient). One body for G2P (USL) and
@@ -84,9 +105,10 @@ inline void point_gradient(const QuadRows& q, const double* vx, const double* vy
         n_at);
 }
 
+// (On the polar grid the second row precedes the first in the last sector, where θ wraps.)
 inline void add_span(NodeSpan& span, const QuadRows& q) {
-  span.begin = std::min(span.begin, q.node[0]);
-  span.end = std::max(span.end, q.node[1] + 2);
+  span.begin = std::min({span.begin, q.node[0], q.node[1]});
+  span.end = std::max({span.end, q.node[0] + 2, q.node[1] + 2});
 }
 
 }  // namespace
@@ -118,7 +140,26 @@ void Solver::locate_cells(const CartesianGrid& grid, int phase, std::size_t b, s
   }
 }
 
-void Solver::map_first_quad(const CartesianGrid& grid, int t) {
+void Solver::locate_cells(const PolarGrid& grid, int phase, std::size_t b, std::size_t e) {
+  const PointFields& pts = phase == 0 ? static_cast<const PointFields&>(solid_)
+                                      : static_cast<const PointFields&>(liquid_);
+  StencilCache& c = cache_[phase];
+  for (std::size_t p = b; p < e; ++p) {
+    if (!grid.quad(pts.x[p], pts.y[p], c.sector[p], c.quad[p])) c.quad[p].node[0] = -1;
+  }
+}
+
+template <class G>
+void Solver::map_first_quad(const G& grid, int t) {
+  auto view = [&](int phase) {  // the located stencils of a phase as QuadRows
+    if constexpr (std::is_same_v<G, CartesianGrid>) {
+      const CellCache& c = cells_[phase];
+      return CellView{c.node.data(), c.xi.data(), c.eta.data(),
+                      c.inv_hx,      c.inv_hy,    grid.cells_x() + 1};
+    } else {
+      return QuadView{cache_[phase].quad.data()};
+    }
+  };
   const bool wet = liquid_.size() > 0;
   const int nn = nn_, T = threads_;
   const int fields = wet ? NF : solid_fields;
@@ -126,11 +167,6 @@ void Solver::map_first_quad(const CartesianGrid& grid, int t) {
   double* acc = scatter_buffer(t, fields);
   NodeSpan span;
   long* lost = slots_[t].lost;
-  auto view = [&](int phase) {
-    const CellCache& c = cells_[phase];
-    return CellView{c.node.data(), c.xi.data(), c.eta.data(),
-                    c.inv_hx,      c.inv_hy,    grid.cells_x() + 1};
-  };
   std::size_t b, e;
   chunk(solid_.size(), t, T, b, e);
   locate_cells(grid, 0, b, e);
@@ -142,7 +178,7 @@ void Solver::map_first_quad(const CartesianGrid& grid, int t) {
     double* fys = acc + FYS * nn;
     double* nms = acc + NMS * nn;
     const SolidPoints& sp = solid_;
-    const CellView cells = view(0);
+    const auto cells = view(0);
     QuadRows q;
     for (std::size_t p = b; p < e; ++p) {
       if (!cells.rows(p, q)) {
@@ -170,7 +206,7 @@ void Solver::map_first_quad(const CartesianGrid& grid, int t) {
     const LiquidPoints& lp = liquid_;
     chunk(lp.size(), t, T, b, e);
     locate_cells(grid, 1, b, e);
-    const CellView cells = view(1);
+    const auto cells = view(1);
     QuadRows q;
     for (std::size_t p = b; p < e; ++p) {
       if (!cells.rows(p, q)) {
@@ -191,7 +227,17 @@ void Solver::map_first_quad(const CartesianGrid& grid, int t) {
 
 // G2P with the FLIP/PIC blend (and the USL velocity gradient); with `remap` (MUSL) the updated
 // momentum is mapped back to the nodes in the same pass, as update_points_part does.
-void Solver::update_points_quad(const CartesianGrid& grid, int t, bool remap) {
+template <class G>
+void Solver::update_points_quad(const G& grid, int t, bool remap) {
+  auto view = [&](int phase) {  // the located stencils of a phase as QuadRows
+    if constexpr (std::is_same_v<G, CartesianGrid>) {
+      const CellCache& c = cells_[phase];
+      return CellView{c.node.data(), c.xi.data(), c.eta.data(),
+                      c.inv_hx,      c.inv_hy,    grid.cells_x() + 1};
+    } else {
+      return QuadView{cache_[phase].quad.data()};
+    }
+  };
   const double dt = dt_, flip = flip_fraction(), s = options_.mass_scaling;
   const bool usl = options_.scheme == UpdateScheme::usl;
   const bool wet = liquid_.size() > 0;
@@ -205,9 +251,7 @@ void Solver::update_points_quad(const CartesianGrid& grid, int t, bool remap) {
                  const double* ay, bool extras, double* m_, double* px_, double* py_) {
     double* dx = displacement_x_[phase].data();
     double* dy = displacement_y_[phase].data();
-    const CellCache& c = cells_[phase];
-    const CellView cells{c.node.data(), c.xi.data(), c.eta.data(),
-                         c.inv_hx,      c.inv_hy,    grid.cells_x() + 1};
+    const auto cells = view(phase);
     std::size_t b, e;
     chunk(pts.size(), t, T, b, e);
     QuadRows q;
@@ -258,13 +302,21 @@ void Solver::update_points_quad(const CartesianGrid& grid, int t, bool remap) {
 
 // L = Σ_a v_a ⊗ ∇N_a at the points (and, for the liquid, tr(D_S), n and |u_L - u_S| there), as
 // velocity_gradients_part does.
-void Solver::velocity_gradients_quad(const CartesianGrid& grid, int t, bool liquid_extras) {
+template <class G>
+void Solver::velocity_gradients_quad(const G& grid, int t, bool liquid_extras) {
+  auto view = [&](int phase) {  // the located stencils of a phase as QuadRows
+    if constexpr (std::is_same_v<G, CartesianGrid>) {
+      const CellCache& c = cells_[phase];
+      return CellView{c.node.data(), c.xi.data(), c.eta.data(),
+                      c.inv_hx,      c.inv_hy,    grid.cells_x() + 1};
+    } else {
+      return QuadView{cache_[phase].quad.data()};
+    }
+  };
   const double* vxs = nodes_.vx_solid.data();
   const double* vys = nodes_.vy_solid.data();
   auto grad = [&](int phase, PointFields& pts, const double* vx, const double* vy, bool extras) {
-    const CellCache& c = cells_[phase];
-    const CellView cells{c.node.data(), c.xi.data(), c.eta.data(),
-                         c.inv_hx,      c.inv_hy,    grid.cells_x() + 1};
+    const auto cells = view(phase);
     std::size_t b, e;
     chunk(pts.size(), t, threads_, b, e);
     QuadRows q;
@@ -284,5 +336,12 @@ void Solver::velocity_gradients_quad(const CartesianGrid& grid, int t, bool liqu
     grad(1, liquid_, nodes_.vx_liquid.data(), nodes_.vy_liquid.data(), liquid_extras);
   }
 }
+
+template void Solver::map_first_quad<CartesianGrid>(const CartesianGrid&, int);
+template void Solver::map_first_quad<PolarGrid>(const PolarGrid&, int);
+template void Solver::update_points_quad<CartesianGrid>(const CartesianGrid&, int, bool);
+template void Solver::update_points_quad<PolarGrid>(const PolarGrid&, int, bool);
+template void Solver::velocity_gradients_quad<CartesianGrid>(const CartesianGrid&, int, bool);
+template void Solver::velocity_gradients_quad<PolarGrid>(const PolarGrid&, int, bool);
 
 }  // namespace granflow::mpm

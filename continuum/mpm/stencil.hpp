@@ -19,4 +19,15 @@ struct Stencil {
   double dNdy[capacity];
 };
 
+// A linear-shape stencil of fixed width: the 2 x 2 nodes of a quad cell as two rows of two
+// adjacent nodes, (node[r], node[r] + 1) for r = 0, 1; entry 2 r + a of N, dNdx, dNdy belongs to
+// node node[r] + a. Both structured grids number their nodes so that this holds (the polar grid:
+// i radial, fastest).
+struct QuadStencil {
+  int node[2];
+  double N[4];
+  double dNdx[4];
+  double dNdy[4];
+};
+
 }  // namespace granflow::mpm
