@@ -142,6 +142,10 @@ double maximum_solid_fraction(const CollisionalParameters& p);
 // All coefficients at ν. Precondition 0 < ν < maximum_solid_fraction(p); outside it throws
 // std::domain_error (guarded singularity).
 CollisionalCoefficients collisional_coefficients(const CollisionalParameters& p, double nu);
+// The same with the effective restitution ε = effective_restitution(p) given (a constant of the
+// material: a hot loop evaluates it once instead of once per call).
+CollisionalCoefficients collisional_coefficients(const CollisionalParameters& p, double nu,
+                                                 double epsilon);
 
 double effective_restitution(const CollisionalParameters& p);  // ε
 // g0(ν) of the chosen option, no range check (collisional_coefficients() checks).

@@ -60,6 +60,11 @@ inline double radial_distribution(const CollisionalParameters& p, double nu) {
 }
 
 inline CollisionalCoefficients collisional_coefficients(const CollisionalParameters& p, double nu) {
+  return collisional_coefficients(p, nu, effective_restitution(p));
+}
+
+inline CollisionalCoefficients collisional_coefficients(const CollisionalParameters& p, double nu,
+                                                        double epsilon) {
   const double nu_max = maximum_solid_fraction(p);
   if (!(nu > 0.0 && nu < nu_max)) {
     detail::throw_solid_fraction_out_of_range("collisional_coefficients", nu, 0.0, nu_max);
@@ -68,7 +73,7 @@ inline CollisionalCoefficients collisional_coefficients(const CollisionalParamet
   c.nu = nu;
   c.g0 = radial_distribution(p, nu);
   c.G = nu * c.g0;
-  c.epsilon = effective_restitution(p);
+  c.epsilon = epsilon;
   c.f1 = kinetic_f1(nu, c.G, p.restitution);
   c.J = kinetic_J(p.restitution, c.G);
   c.f2 = kinetic_f2(nu, c.G, c.J);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "continuum/mpm/material_points.hpp"
@@ -107,12 +108,16 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
     const double Dxx = v.Lxx[p], Dyy = v.Lyy[p], Dxy = 0.5 * (v.Lxy[p] + v.Lyx[p]);
     const double w_dt = 0.5 * (v.Lxy[p] - v.Lyx[p]) * dt;
     continuum::PointState st;
-    st.solid_fraction = 1.0 - v.porosity[p];
-    // Guard of the closures' domain: a point packed beyond ν_lim (a fluidized skeleton clumping
-    // between MPM points) is evaluated at ν_lim; counted and reported (docs/rheometer.md).
-    const double nu_end = st.solid_fraction * std::exp(-(Dxx + Dyy) * dt);
+    // mass balance of MultiRegimePoint::advance (ν ∝ exp(tr ε̇ dt), tr ε̇ = -(D_xx + D_yy)), done
+    // here for the guard of the closures' domain: a point packed beyond ν_lim (a fluidized
+    // skeleton clumping between MPM points) is evaluated at ν_lim; counted and reported
+    // (docs/rheometer.md).
+    double nu_start = 1.0 - v.porosity[p];
+    const double nu_end = nu_start * std::exp(-(Dxx + Dyy) * dt);
+    st.solid_fraction = nu_end;
     if (nu_end > solid_fraction_limit_) {
-      st.solid_fraction = solid_fraction_limit_ * std::exp((Dxx + Dyy) * dt);
+      nu_start = solid_fraction_limit_ * std::exp((Dxx + Dyy) * dt);
+      st.solid_fraction = solid_fraction_limit_;
       ++clamped;
     }
     st.granular_temperature = std::max(v.temperature[p], 0.0);
@@ -122,17 +127,18 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
     fc.stress << fc_xx_[k], fc_xy_[k], 0, fc_xy_[k], fc_yy_[k], 0, 0, 0, fc_zz_[k];
     fc.chi << chi_xx_[k], chi_xy_[k], 0, chi_xy_[k], chi_yy_[k], 0, 0, 0, chi_zz_[k];
     fc.r_c = r_c_[k];
-    fc.void_ratio = 1.0 / st.solid_fraction - 1.0;
+    fc.void_ratio = 1.0 / nu_start - 1.0;
     // compression-positive strain rate of the model: ε̇ = -D (plane strain, D_zz = 0)
     Eigen::Matrix3d strain_rate;
     strain_rate << -Dxx, -Dxy, 0, -Dxy, -Dyy, 0, 0, 0, 0;
-    continuum::StressParts parts;
+    std::optional<continuum::StressParts> result;  // (no copy of the parts)
     try {
-      parts = point_.advance(st, strain_rate, dt);
+      result.emplace(point_.advance_mass_balanced(st, strain_rate, dt));
     } catch (const std::exception&) {
       bad = std::max(bad, p);
       continue;
     }
+    const continuum::StressParts& parts = *result;
     const Eigen::Matrix3d& s_fc = st.force_chains.stress;
     fc_xx_[k] = s_fc(0, 0);
     fc_yy_[k] = s_fc(1, 1);
@@ -145,7 +151,10 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
     r_c_[k] = st.force_chains.r_c;
     void_ratio_[k] = st.force_chains.void_ratio;
     collisional_pressure_[k] = parts.collisional_pressure;
-    shear_rate_[k] = continuum::MultiRegimePoint::shear_rate(strain_rate);
+    // γ̇ = sqrt(2 ε̇':ε̇') (MultiRegimePoint::shear_rate) of the plane strain rate ε̇ = -D:
+    // ε̇':ε̇' = (D_xx - m)² + (D_yy - m)² + m² + 2 D_xy², m = (D_xx + D_yy)/3
+    const double m = (Dxx + Dyy) / 3.0, ax = Dxx - m, ay = Dyy - m;
+    shear_rate_[k] = std::sqrt(2.0 * (ax * ax + ay * ay + m * m + 2.0 * Dxy * Dxy));
     v.temperature[p] = st.granular_temperature;
     if (v.conductivity) {
       // κ_T = ρ_p d f4(ν) T^½ (model::collisional_conductivity; docs/model/closures.md)

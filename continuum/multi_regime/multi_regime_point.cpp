@@ -10,6 +10,8 @@ namespace granflow::continuum {
 MultiRegimePoint::MultiRegimePoint(MultiRegimeSettings settings) : settings_(std::move(settings)) {
   if (!settings_.liquid) settings_.fluctuation_dissipation = false;
   if (settings_.force_chains) force_chain_model_.emplace(settings_.force_chain_parameters);
+  if (settings_.collisional)
+    effective_restitution_ = model::effective_restitution(settings_.collisional_parameters);
   // Plane strain, isochoric flow coaxial with D (cos 3θ = 0): τ/σ_yy = M(θ = 0)/√3 on the
   // Lade-Duncan critical state locus.
   if (settings_.inertial_contact_friction > 0.0)
@@ -34,9 +36,15 @@ PointState MultiRegimePoint::initial_state(double void_ratio, double effective_p
 
 StressParts MultiRegimePoint::advance(PointState& state, const Eigen::Matrix3d& strain_rate,
                                       double dt) const {
-  const double T_start = state.granular_temperature;
   // 1. mass balance: ν (1+e) = 1, 1+e ∝ exp(-ε_v) with compression-positive ε_v
   state.solid_fraction *= std::exp(strain_rate.trace() * dt);
+  return advance_mass_balanced(state, strain_rate, dt);
+}
+
+StressParts MultiRegimePoint::advance_mass_balanced(PointState& state,
+                                                    const Eigen::Matrix3d& strain_rate,
+                                                    double dt) const {
+  const double T_start = state.granular_temperature;
   // 2. force chains (rate independent: the increment is ε̇ dt)
   model::force_chains::UpdateInfo info;
   if (force_chain_model_) {
@@ -81,14 +89,30 @@ double MultiRegimePoint::shear_rate(const Eigen::Matrix3d& strain_rate) {
 StressParts MultiRegimePoint::evaluate(const PointState& state,
                                        const Eigen::Matrix3d& strain_rate) const {
   model::CollisionalCoefficients c;
-  if (settings_.collisional)
-    c = model::collisional_coefficients(settings_.collisional_parameters, state.solid_fraction);
-  return evaluate(state, strain_rate, c);
+  double lambda_over_T = 0.0;
+  if (settings_.collisional) {
+    c = coefficients(state.solid_fraction);
+    lambda_over_T = liquid_dissipation_per_temperature(state.solid_fraction, c.g0);
+  }
+  return evaluate(state, strain_rate, c, lambda_over_T);
 }
 
-RiccatiCoefficients MultiRegimePoint::temperature_equation(
-    const PointState& state, const Eigen::Matrix3d& strain_rate,
-    const model::CollisionalCoefficients& c) const {
+model::CollisionalCoefficients MultiRegimePoint::coefficients(double nu) const {
+  return model::collisional_coefficients(settings_.collisional_parameters, nu,
+                                         effective_restitution_);
+}
+
+double MultiRegimePoint::liquid_dissipation_per_temperature(double nu, double g0) const {
+  if (!settings_.fluctuation_dissipation) return 0.0;
+  return model::liquid_fluctuation_dissipation(settings_.liquid_parameters,
+                                               settings_.collisional_parameters.diameter, nu, g0,
+                                               1.0);
+}
+
+RiccatiCoefficients MultiRegimePoint::temperature_equation(const PointState& state,
+                                                           const Eigen::Matrix3d& strain_rate,
+                                                           const model::CollisionalCoefficients& c,
+                                                           double lambda_over_T) const {
   // The coefficients of evaluate() below, without the stresses.
   const Eigen::Matrix3d deviator =
       strain_rate - strain_rate.trace() / 3.0 * Eigen::Matrix3d::Identity();
@@ -96,12 +120,13 @@ RiccatiCoefficients MultiRegimePoint::temperature_equation(
   const double gamma_dot = std::sqrt(2.0 * deviator_norm2);
   const double L = model::correlation_length(settings_.collisional_parameters, c, gamma_dot,
                                              state.granular_temperature);
-  return riccati(state.solid_fraction, deviator_norm2, strain_rate.trace(), c, L);
+  return riccati(state.solid_fraction, deviator_norm2, strain_rate.trace(), c, L, lambda_over_T);
 }
 
 RiccatiCoefficients MultiRegimePoint::riccati(double nu, double deviator_norm2, double trace,
                                               const model::CollisionalCoefficients& c,
-                                              double correlation_length) const {
+                                              double correlation_length,
+                                              double lambda_over_T) const {
   // Coefficients of ds/dt (granular_temperature_update.hpp), divided through by (3/2) ρ_p ν and 2s.
   const auto& p = settings_.collisional_parameters;
   RiccatiCoefficients k;
@@ -110,15 +135,14 @@ RiccatiCoefficients MultiRegimePoint::riccati(double nu, double deviator_norm2, 
   k.c = -c.f1 * trace / (3.0 * nu);  // compaction (tr ε̇ > 0) heats
   if (settings_.fluctuation_dissipation) {
     // Λ = 54 ν η0 R_diss T / d² -> c += 54 ν η0 R_diss / (3 ν ρ_p d²) ... written via Λ/T
-    const double lambda_over_T = model::liquid_fluctuation_dissipation(settings_.liquid_parameters,
-                                                                       p.diameter, nu, c.g0, 1.0);
     k.c += lambda_over_T / (3.0 * nu * p.particle_density);
   }
   return k;
 }
 
 StressParts MultiRegimePoint::evaluate(const PointState& state, const Eigen::Matrix3d& strain_rate,
-                                       const model::CollisionalCoefficients& c) const {
+                                       const model::CollisionalCoefficients& c,
+                                       double lambda_over_T) const {
   StressParts parts;
   if (settings_.force_chains) parts.force_chain = state.force_chains.stress;
   const double nu = state.solid_fraction;
@@ -141,11 +165,10 @@ StressParts MultiRegimePoint::evaluate(const PointState& state, const Eigen::Mat
         parts.collisional_pressure * identity + 2.0 * parts.collisional_viscosity * deviator;
     parts.collisional_power = parts.collisional_pressure * strain_rate.trace() +
                               2.0 * parts.collisional_viscosity * deviator_norm2;
-    parts.temperature_equation =
-        riccati(nu, deviator_norm2, strain_rate.trace(), c, parts.correlation_length);
-    if (settings_.fluctuation_dissipation)
-      parts.liquid_dissipation = model::liquid_fluctuation_dissipation(settings_.liquid_parameters,
-                                                                       p.diameter, nu, c.g0, T);
+    parts.temperature_equation = riccati(nu, deviator_norm2, strain_rate.trace(), c,
+                                         parts.correlation_length, lambda_over_T);
+    // Λ = (Λ/T) T: linear in T (model::liquid_fluctuation_dissipation)
+    if (settings_.fluctuation_dissipation) parts.liquid_dissipation = lambda_over_T * T;
   }
   if (contact_stress_on(settings_)) {
     // σ_IC = p_IC I + 2 η_IC ε̇', η_IC = μ_IC p_IC / γ̇ (in simple shear τ_IC = μ_IC p_IC); its
@@ -168,20 +191,25 @@ StressParts MultiRegimePoint::evaluate(const PointState& state, const Eigen::Mat
 StressParts MultiRegimePoint::update(PointState& state, const Eigen::Matrix3d& strain_rate,
                                      double dt, double heat_capacity_factor) const {
   // ν is frozen over the T update, so the collisional coefficients (g0, f1..f4 of ν:
-  // docs/model/closures.md) are evaluated once and serve the Riccati coefficients at the start
-  // and the stresses at the end (bit for bit the two evaluations they replace).
+  // docs/model/closures.md) and Λ/T are evaluated once and serve the Riccati coefficients at the
+  // start and the stresses at the end (bit for bit the two evaluations they replace; the
+  // diagnostic Λ = (Λ/T) T differs from Λ evaluated at T by round-off).
   model::CollisionalCoefficients c;
+  double lambda_over_T = 0.0;
   if (settings_.collisional) {
-    c = model::collisional_coefficients(settings_.collisional_parameters, state.solid_fraction);
-    RiccatiCoefficients k = temperature_equation(state, strain_rate, c);
-    k.a /= heat_capacity_factor;
-    k.b /= heat_capacity_factor;
-    k.c /= heat_capacity_factor;
+    c = coefficients(state.solid_fraction);
+    lambda_over_T = liquid_dissipation_per_temperature(state.solid_fraction, c.g0);
+    RiccatiCoefficients k = temperature_equation(state, strain_rate, c, lambda_over_T);
+    if (heat_capacity_factor != 1.0) {  // (x / 1 = x: three divisions saved per point)
+      k.a /= heat_capacity_factor;
+      k.b /= heat_capacity_factor;
+      k.c /= heat_capacity_factor;
+    }
     const double s0 = std::sqrt(std::max(state.granular_temperature, 0.0));
     const double s1 = advance_sqrt_temperature(s0, k, dt);
     state.granular_temperature = s1 * s1;
   }
-  return evaluate(state, strain_rate, c);
+  return evaluate(state, strain_rate, c, lambda_over_T);
 }
 
 }  // namespace granflow::continuum

@@ -109,6 +109,10 @@ class MultiRegimePoint {
   // Each part is skipped when its term is off. Not thread-safe per state, const per point.
   // Throws std::domain_error if ν leaves the range of the closures (the driver prevents it).
   StressParts advance(PointState& state, const Eigen::Matrix3d& strain_rate, double dt) const;
+  // advance() from its step 2: the caller has done the mass balance, state.solid_fraction is the
+  // ν at the end of the step (the MPM material, which needs that ν first for its guard).
+  StressParts advance_mass_balanced(PointState& state, const Eigen::Matrix3d& strain_rate,
+                                    double dt) const;
 
   // Isotropic initial state: e, effective pressure p' (σ_FC = p' I), ocr = r_c/(√3 p') >= 1, T.
   PointState initial_state(double void_ratio, double effective_pressure, double ocr,
@@ -131,18 +135,26 @@ class MultiRegimePoint {
  private:
   // evaluate() with the collisional coefficients at state.solid_fraction given (unused when the
   // collisional term is off), and the Riccati coefficients alone.
+  // `lambda_over_T` = Λ/T at ν (liquid_dissipation_per_temperature(), 0 without Λ).
   StressParts evaluate(const PointState& state, const Eigen::Matrix3d& strain_rate,
-                       const model::CollisionalCoefficients& c) const;
+                       const model::CollisionalCoefficients& c, double lambda_over_T) const;
   RiccatiCoefficients temperature_equation(const PointState& state,
                                            const Eigen::Matrix3d& strain_rate,
-                                           const model::CollisionalCoefficients& c) const;
-  // The Riccati coefficients from ν, ε̇':ε̇', tr ε̇, the coefficients at ν and L (one expression
-  // for evaluate() and temperature_equation()).
+                                           const model::CollisionalCoefficients& c,
+                                           double lambda_over_T) const;
+  // The Riccati coefficients from ν, ε̇':ε̇', tr ε̇, the coefficients at ν, L and Λ/T (one
+  // expression for evaluate() and temperature_equation()).
   RiccatiCoefficients riccati(double nu, double deviator_norm2, double trace,
-                              const model::CollisionalCoefficients& c,
-                              double correlation_length) const;
+                              const model::CollisionalCoefficients& c, double correlation_length,
+                              double lambda_over_T) const;
+  // g0, f1..f4 at ν with the material's constant effective restitution.
+  model::CollisionalCoefficients coefficients(double nu) const;
+  // Λ/T = 54 ν η0 R_diss(ν, g0)/d² (0 without Λ): depends on ν only, so one evaluation serves
+  // the T update and the stresses of a step.
+  double liquid_dissipation_per_temperature(double nu, double g0) const;
 
   MultiRegimeSettings settings_;
+  double effective_restitution_ = 0.0;  // ε of the collisional parameters (a constant)
   double inertial_contact_friction_ = 0.0;  // μ_IC
   std::optional<model::force_chains::ForceChainModel> force_chain_model_;
 };
