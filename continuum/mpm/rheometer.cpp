@@ -48,7 +48,10 @@ void accumulate_shear_strain(const Solver& solver, std::vector<double>& gamma) {
   const SolidPoints& sp = solver.solid();
   gamma.resize(sp.size(), 0.0);
   const double dt = solver.dt();
-  for (std::size_t p = 0; p < sp.size(); ++p) {
+  const long n = static_cast<long>(sp.size());
+  // per point, no sums: the same for any thread count
+#pragma omp parallel for schedule(static) num_threads(solver.threads()) if (solver.threads() > 1)
+  for (long p = 0; p < n; ++p) {
     // D_rθ = (D_yy - D_xx) c s + D_xy (c² - s²), c = x/r, s = y/r: with c s = x y / r² and
     // c² - s² = (x² - y²) / r², no square root per point and step
     const double x = sp.x[p], y = sp.y[p];

@@ -1,6 +1,7 @@
 // Conduction of the granular temperature among the solid points through the nodes (seed section
 // 5): q = -κ_T ∇T with a constant κ_T or the one each material reports per point.
 #include <fmt/format.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <vector>
@@ -13,72 +14,88 @@ using namespace solver_internal;
 
 template <class G, ShapeKind S>
 void Solver::conduct_temperature(const G& grid) {
-  const int nn = nn_;
+  const int nn = nn_, T = threads_;
   const double kappa = options_.temperature_conductivity, dt = dt_;
   SolidPoints& sp = solid_;
-  scatter(2, [&](double* acc, int t, int T) {
-    std::size_t b, e;
-    chunk(sp.size(), t, T, b, e);
-    Stencil st{};
-    for (std::size_t p = b; p < e; ++p) {
-      if (!locate<G, S>(grid, 0, p, st)) continue;  // caught in the next map
-      const double c = 1.5 * sp.mass[p], cT = c * sp.temperature[p];
-      for (int k = 0; k < st.count; ++k) {
-        acc[st.node[k]] += st.N[k] * c;
-        acc[nn + st.node[k]] += st.N[k] * cT;
-      }
-    }
-  });
+  double* nodal_T = nodal_temperature_.data();
+  double* capacity = heat_capacity_.data();
   cache_[0].valid = true;
-  std::vector<double>& A = acc_;
-  std::vector<double>& nodal_T = nodal_temperature_;
-  std::vector<double>& capacity = heat_capacity_;
-  for (int a = 0; a < nn; ++a) {
-    capacity[a] = A[a];
-    nodal_T[a] = A[a] > 0 ? A[nn + a] / A[a] : 0.0;
-  }
-  const long np = static_cast<long>(sp.size());
-#pragma omp parallel num_threads(threads_) if (threads_ > 1)
-  {
-    Stencil st{};
-#pragma omp for schedule(static)
-    for (long p = 0; p < np; ++p) {
-      if (!locate<G, S>(grid, 0, p, st)) continue;
-      double gx = 0, gy = 0;
-      for (int k = 0; k < st.count; ++k) {
-        gx += st.dNdx[k] * nodal_T[st.node[k]];
-        gy += st.dNdy[k] * nodal_T[st.node[k]];
-      }
-      temperature_gradient_x_[p] = gx;
-      temperature_gradient_y_[p] = gy;
-    }
-  }
-  scatter(1, [&](double* acc, int t, int T) {
+  long negative = -1;
+  // One parallel region (as the grid part of the step, solver_maps.cpp): each piece on the
+  // thread's fixed chunk of points or share of nodes, the pieces separated by barriers; the
+  // per-thread scatters are reduced in thread order (reproducible for a thread count).
+  auto part = [&](int t) {
+    int nb, ne;
+    node_share(nn, t, T, nb, ne);
     std::size_t b, e;
     chunk(sp.size(), t, T, b, e);
     Stencil st{};
+    // 1. nodal heat capacity C_a = Σ N_a (3/2) m and C_a T_a = Σ N_a (3/2) m T
+    {
+      double* acc = scatter_buffer(t, 2);
+      NodeSpan span;
+      for (std::size_t p = b; p < e; ++p) {
+        if (!locate<G, S>(grid, 0, p, st)) continue;  // caught in the next map
+        if (T > 1) span.add<G>(st);
+        const double c = 1.5 * sp.mass[p], cT = c * sp.temperature[p];
+        for (int k = 0; k < st.count; ++k) {
+          acc[st.node[k]] += st.N[k] * c;
+          acc[nn + st.node[k]] += st.N[k] * cT;
+        }
+      }
+      mark_dirty(t, 2, span.begin, span.end);
+    }
+    if (T > 1) {
+#pragma omp barrier
+    }
+    reduce_part(2, t);
+    for (int a = nb; a < ne; ++a) {
+      capacity[a] = acc_[a];
+      nodal_T[a] = acc_[a] > 0 ? acc_[nn + a] / acc_[a] : 0.0;
+    }
+    if (T > 1) {
+#pragma omp barrier
+    }
+    // 2. ∇T at the points and the nodal heat flow -Σ ∇N_a · q V, q = κ ∇T
+    {
+      double* acc = scatter_buffer(t, 1);
+      NodeSpan span;
+      for (std::size_t p = b; p < e; ++p) {
+        if (!locate<G, S>(grid, 0, p, st)) continue;
+        if (T > 1) span.add<G>(st);
+        double gx = 0, gy = 0;
+        for (int k = 0; k < st.count; ++k) {
+          gx += st.dNdx[k] * nodal_T[st.node[k]];
+          gy += st.dNdy[k] * nodal_T[st.node[k]];
+        }
+        temperature_gradient_x_[p] = gx;
+        temperature_gradient_y_[p] = gy;
+        const double kappa_p = options_.material_conductivity ? point_conductivity_[p] : kappa;
+        const double qx = kappa_p * gx * sp.volume[p];
+        const double qy = kappa_p * gy * sp.volume[p];
+        for (int k = 0; k < st.count; ++k) acc[st.node[k]] -= st.dNdx[k] * qx + st.dNdy[k] * qy;
+      }
+      mark_dirty(t, 1, span.begin, span.end);
+    }
+    if (T > 1) {
+#pragma omp barrier
+    }
+    reduce_part(1, t);
+    for (int a = nb; a < ne; ++a)
+      acc_[a] = capacity[a] > 0 ? dt * acc_[a] / capacity[a] : 0.0;  // ΔT_a
+    if (T > 1) {
+#pragma omp barrier
+    }
+    // 3. remap of the nodal change ΔT_a to the points. Heating: N_a ΔT_a (additive). Cooling:
+    // each point gives up its share in proportion to its own T, N_a ΔT_a T_p / T_a, with T_a the
+    // capacity-weighted nodal T. Both conserve the energy of node a exactly
+    // (Σ_p c_p N_a ΔT_a T_p / T_a = ΔT_a C_a), and a cooling point keeps T_p ≥ 0 whenever the
+    // nodal update keeps T_a + ΔT_a ≥ 0 (the explicit conduction limit), which the additive form
+    // does not guarantee for a cold point next to hot ones.
+    const double* A = acc_.data();
+    long bad = -1;
     for (std::size_t p = b; p < e; ++p) {
       if (!locate<G, S>(grid, 0, p, st)) continue;
-      const double kappa_p = options_.material_conductivity ? point_conductivity_[p] : kappa;
-      const double qx = kappa_p * temperature_gradient_x_[p] * sp.volume[p];
-      const double qy = kappa_p * temperature_gradient_y_[p] * sp.volume[p];
-      for (int k = 0; k < st.count; ++k) acc[st.node[k]] -= st.dNdx[k] * qx + st.dNdy[k] * qy;
-    }
-  });
-  for (int a = 0; a < nn; ++a) A[a] = capacity[a] > 0 ? dt * A[a] / capacity[a] : 0.0;  // ΔT_a
-  long negative = -1;
-#pragma omp parallel num_threads(threads_) if (threads_ > 1) reduction(max : negative)
-  {
-    Stencil st{};
-#pragma omp for schedule(static)
-    for (long p = 0; p < np; ++p) {
-      if (!locate<G, S>(grid, 0, p, st)) continue;
-      // Remap of the nodal change ΔT_a to the points. Heating: N_a ΔT_a (additive). Cooling:
-      // each point gives up its share in proportion to its own T, N_a ΔT_a T_p / T_a, with T_a the
-      // capacity-weighted nodal T. Both conserve the energy of node a exactly
-      // (Σ_p c_p N_a ΔT_a T_p / T_a = ΔT_a C_a), and a cooling point keeps T_p ≥ 0 whenever the
-      // nodal update keeps T_a + ΔT_a ≥ 0 (the explicit conduction limit), which the additive form
-      // does not guarantee for a cold point next to hot ones.
       const double Tp = sp.temperature[p];
       double dT = 0;
       for (int k = 0; k < st.count; ++k) {
@@ -90,8 +107,15 @@ void Solver::conduct_temperature(const G& grid) {
           dT += st.N[k] * dTa * (Tp / nodal_T[a]);
       }
       sp.temperature[p] = Tp + dT;
-      if (!(sp.temperature[p] >= 0.0)) negative = std::max(negative, p);
+      if (!(sp.temperature[p] >= 0.0)) bad = static_cast<long>(p);
     }
+    return bad;
+  };
+  if (T == 1) {
+    negative = part(0);
+  } else {
+#pragma omp parallel num_threads(T) reduction(max : negative)
+    negative = std::max(negative, part(omp_get_thread_num()));
   }
   if (negative >= 0) {
     throw core::NumericalFailure(step_ + 1, fmt::format("solid point {}", negative), "temperature",
