@@ -273,6 +273,22 @@ std::vector<double> read_dataset(const std::filesystem::path& file, const std::s
   }
 }
 
+bool dataset_exists(const std::filesystem::path& file, const std::string& path) {
+  install_hdf5_error_recorder();
+  try {
+    H5::H5File f(file.string(), H5F_ACC_RDONLY);
+    // H5Lexists link by link: each parent must exist before its child is asked for.
+    for (std::size_t end = path.find('/', 1);; end = path.find('/', end + 1)) {
+      const std::string prefix = path.substr(0, end);
+      if (H5Lexists(f.getId(), prefix.c_str(), H5P_DEFAULT) <= 0) return false;
+      if (end == std::string::npos) break;
+    }
+    return f.childObjType(path) == H5O_TYPE_DATASET;
+  } catch (const H5::Exception& e) {
+    rethrow_h5(file, path, e);
+  }
+}
+
 static H5::Attribute open_attribute(H5::H5File& f, const std::string& object_path,
                                     const std::string& name) {
   if (object_path.empty() || object_path == "/") return f.openGroup("/").openAttribute(name);
@@ -316,8 +332,9 @@ std::vector<std::string> read_string_list_attribute(const std::filesystem::path&
     H5::H5File f(file.string(), H5F_ACC_RDONLY);
     const bool dataset = !(object_path.empty() || object_path == "/") &&
                          f.childObjType(object_path) == H5O_TYPE_DATASET;
-    const bool exists = dataset ? f.openDataSet(object_path).attrExists(name)
-                                : f.openGroup(object_path.empty() ? "/" : object_path).attrExists(name);
+    const bool exists = dataset
+                            ? f.openDataSet(object_path).attrExists(name)
+                            : f.openGroup(object_path.empty() ? "/" : object_path).attrExists(name);
     if (!exists) return {};
     H5::Attribute a = open_attribute(f, object_path, name);
     const auto n = a.getSpace().getSimpleExtentNpoints();

@@ -78,6 +78,8 @@ class ResultFile {
 
 // Read a 1D double dataset (for tests, calibration and pair runs).
 std::vector<double> read_dataset(const std::filesystem::path& file, const std::string& path);
+// Whether `path` (absolute, "/a/b/c") names a dataset of the file (false for a group or nothing).
+bool dataset_exists(const std::filesystem::path& file, const std::string& path);
 std::string read_string_attribute(const std::filesystem::path& file, const std::string& object_path,
                                   const std::string& name);
 double read_number_attribute(const std::filesystem::path& file, const std::string& object_path,

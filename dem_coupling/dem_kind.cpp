@@ -10,7 +10,6 @@
 #include <map>
 #include <span>
 
-#include "statistics/steady_state.hpp"
 #include "continuum/sections/model_sections.hpp"
 #include "core/file_io.hpp"
 #include "core/interrupt.hpp"
@@ -26,6 +25,7 @@
 #include "dem_coupling/kind/series_table.hpp"
 #include "dem_coupling/kind/shear_start_keys.hpp"
 #include "dem_coupling/kind/transient.hpp"
+#include "statistics/steady_state.hpp"
 
 namespace granflow::dem {
 
@@ -94,6 +94,11 @@ void check_shear(const core::Case& sweep_case) {
              "of the run (> 0)");
     if (!targets && c.has("strain.max"))
       c.fail("strain.max", "only with strain.target_error (the run length is strain.total)");
+    // The stop's rows follow the shear's in the series: only the transient analysis splits them.
+    if (c.number("stop.duration") > 0 && (!c.has("start.preparation") || targets))
+      c.fail("stop.duration",
+             "0 unless the shear starts from start.preparation, without strain.target_error "
+             "(the stop follows a transient of fixed length)");
     const ShearDeckParams p = read_shear_params(c);
     if (targets && !(p.check_strain >= p.sample_strain))
       c.fail("strain.check", ">= strain.sample (the checks fall on samples)");
@@ -374,10 +379,12 @@ int run_shear(core::RunContext& ctx) {
   // The imposed target, in its own unit: σ_yy under constant_pressure, φ under constant_volume.
   const bool constant_pressure = ctx.run_case.string("control.mode") == "constant_pressure";
   for (const auto& [column, values] :
-       {std::pair{dem_columns::shear_rate, &rate}, {dem_columns::particle_friction, &friction_p},
+       {std::pair{dem_columns::shear_rate, &rate},
+        {dem_columns::particle_friction, &friction_p},
         {constant_pressure ? dem_columns::normal_stress_target : dem_columns::solid_fraction_target,
          &target},
-        {dem_columns::time_step, &dt}, {dem_columns::wall_time, &wall}}) {
+        {dem_columns::time_step, &dt},
+        {dem_columns::wall_time, &wall}}) {
     out.write("/steady", column, *values);
     column_names.push_back(column.name);
   }

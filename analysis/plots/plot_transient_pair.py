@@ -3,7 +3,9 @@
 rest in the DEM (seed mean and band, lowest to highest seed: /transient_pair/group_G/dem)
 and in the continuum (the REV's steps, the same group), p'(gamma)/p0 and tau(gamma)/p0, one colour per condition, the continuum with
 fitted force-chain parameters (calibrate section) dotted; the liquefaction threshold f p0 dotted
-black. Usage: plot_transient_pair.py RUN_DIR  ->  RUN_DIR/transient_pair.png"""
+black. With a stop stage (stop.duration), a third panel: T / flowing T against the time since
+the shear was stopped (log-log), DEM band and continuum.
+Usage: plot_transient_pair.py RUN_DIR  ->  RUN_DIR/transient_pair.png"""
 import os
 import sys
 
@@ -18,7 +20,9 @@ import numpy as np  # noqa: E402
 def main(run):
     with h5py.File(os.path.join(run, "result.h5"), "r") as f_cont:
         names = sorted(f_cont["transient_pair"].keys(), key=lambda n: int(n.split("_")[-1]))
-        fig, (ax_p, ax_t) = plt.subplots(1, 2, figsize=(11, 4.2))
+        stopped = any("stop" in f_cont["transient_pair"][n]["dem"] for n in names)
+        fig, axes = plt.subplots(1, 3 if stopped else 2, figsize=(16 if stopped else 11, 4.2))
+        ax_p, ax_t = axes[0], axes[1]
         for k, name in enumerate(names):
             cont = f_cont["transient_pair"][name]
             p0 = float(cont.attrs["p0"])
@@ -38,6 +42,21 @@ def main(run):
                     ax.plot(np.asarray(cont["strain_cal"]), np.asarray(cont[q + "_cal"]) / p0,
                             color=color, lw=1.6, ls=":", label="calibrated continuum " + label)
             ax_p.axhline(float(cont.attrs["liquefaction_fraction"]), color="k", ls=":", lw=1)
+            if "stop" in dem:  # T / flowing T after the stop, each side scaled by its own
+                ax_s = axes[2]
+                t_dem = np.asarray(dem["stop/time"])
+                flow = float(cont.attrs["dem_flowing_T"])
+                ax_s.fill_between(t_dem, np.asarray(dem["stop/granular_temperature_min"]) / flow,
+                                  np.asarray(dem["stop/granular_temperature_max"]) / flow,
+                                  color=color, alpha=0.2, lw=0)
+                ax_s.plot(t_dem, np.asarray(dem["stop/granular_temperature_mean"]) / flow,
+                          color=color, lw=1.2, label="DEM " + label)
+                for suffix, ls in (("", "--"), ("_cal", ":")):
+                    if "stop/time" + suffix in cont:
+                        ax_s.plot(np.asarray(cont["stop/time" + suffix]),
+                                  np.asarray(cont["stop/granular_temperature" + suffix]) /
+                                  float(cont.attrs["cont" + suffix + "_flowing_T"]),
+                                  color=color, lw=1.6, ls=ls)
     ax_p.set_yscale("log")
     ax_p.set_ylabel("p' / p0   (mean stress)")
     ax_t.set_ylabel("tau / p0")
@@ -45,6 +64,13 @@ def main(run):
         ax.set_xlabel("shear strain gamma")
         ax.grid(alpha=0.3)
     ax_t.legend(fontsize=7)
+    if stopped:
+        ax_s = axes[2]
+        ax_s.set_xscale("log")
+        ax_s.set_yscale("log")
+        ax_s.set_xlabel("time since the shear was stopped (s)")
+        ax_s.set_ylabel("T / flowing T")
+        ax_s.grid(alpha=0.3, which="both")
     ax_p.text(0.98, 0.02, "band: lowest to highest DEM seed; dotted: liquefaction threshold",
               transform=ax_p.transAxes, ha="right", va="bottom", fontsize=7)
     fig.suptitle("undrained shear from rest: DEM (solid, band), continuum (dashed), calibrated (dotted)")

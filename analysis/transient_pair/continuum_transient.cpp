@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "continuum/rev/shear_stop.hpp"
 #include "continuum/sections/model_sections.hpp"
 #include "core/numerical_failure.hpp"
 #include "statistics/least_squares.hpp"
@@ -29,6 +30,15 @@ void continuum_transient(const core::Case& condition, double phi0, double p0,
   control.steady_tolerance = 0.0;  // never steady: the series covers the DEM's strain
   control.max_steps = std::numeric_limits<long>::max() / 2;
   rev::run_simple_shear(continuum::MultiRegimePoint(settings), control, result);
+}
+
+void continuum_stop(const core::Case& condition, const rev::SimpleShearResult& sheared,
+                    rev::SimpleShearSeries& out) {
+  const continuum::MultiRegimePoint point(continuum::read_multi_regime_settings(condition));
+  rev::ShearStopControl control;
+  control.duration = condition.number("stop.duration");
+  const double strain = sheared.series.strain.empty() ? 0.0 : sheared.series.strain.back();
+  rev::run_shear_stop(point, sheared.final_state, strain, control, out);
 }
 
 std::string fitted_key(const std::string& name) {

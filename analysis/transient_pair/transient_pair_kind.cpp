@@ -58,6 +58,7 @@ std::vector<std::string> parameter_names(const core::Case& c) {
 
 struct Thresholds {
   double liquefaction, residual;  // transient.liquefaction_fraction, transient.residual_fraction
+  double cooling;                 // stop.cooling_fraction
 };
 
 // summary.json key of a metric: transient.SIDE.NAME, with .G for condition G of a sweep.
@@ -81,6 +82,78 @@ void write_dem_band(core::RunContext& ctx, const std::filesystem::path& dem_h5, 
                        row.column.unit,
                        core::read_string_attribute(dem_h5, from + name, "description") + " (DEM)");
     }
+  if (!core::dataset_exists(dem_h5, from + "stop/" + core::columns::time.name)) return;
+  ctx.result.write(group + "/dem/stop/" + core::columns::time.name,
+                   core::read_dataset(dem_h5, from + "stop/" + core::columns::time.name),
+                   core::columns::time.unit, "time since the DEM's shear was stopped");
+  for (const auto& row : dem::dem_columns::transient_band)
+    for (const char* part :
+         {dem::dem_columns::band_mean, dem::dem_columns::band_min, dem::dem_columns::band_max}) {
+      const std::string name = "stop/" + std::string(row.column.name) + part;
+      ctx.result.write(group + "/dem/" + name, core::read_dataset(dem_h5, from + name),
+                       row.column.unit,
+                       core::read_string_attribute(dem_h5, from + name, "description") + " (DEM)");
+    }
+}
+
+// The shear stopped (stop.duration > 0): the continuum's stop stage from the end of `rev`, its
+// series under group/stop/NAME{suffix}, the cooling metrics of both sides (transient.dem.NAME,
+// transient.cont{suffix}.NAME, transient.rel_err{suffix}.cooling_time).
+void compare_stop(core::RunContext& ctx, const core::Case& condition, const DemTransient& dem,
+                  const rev::SimpleShearResult& rev, const Thresholds& limits,
+                  const std::string& group, const std::string& g, const std::string& suffix) {
+  rev::SimpleShearSeries stop;
+  continuum_stop(condition, rev, stop);
+  namespace col = core::columns;
+  const std::string model =
+      suffix.empty() ? "continuum" : "continuum with the fitted force-chain parameters";
+  const std::pair<core::Column, const std::vector<double>&> series[] = {
+      {col::described(col::time, "time since the shear was stopped"), stop.time},
+      {col::described(col::mean_stress, "mean stress p' = p_COL + tr(σ_FC)/3, shear stopped"),
+       stop.pressure},
+      {col::described(col::granular_temperature, "granular temperature T, shear stopped"),
+       stop.granular_temperature},
+  };
+  for (const auto& [column, values] : series)
+    ctx.result.write(group + "/stop/" + column.name + suffix, values, column.unit,
+                     model + ": " + column.description);
+  const auto dem_m = dem::stop_metrics(dem.stop_time, dem.stop_T_mean, dem.stop_p_mean,
+                                       dem::residual_mean(dem.strain, dem.T_mean, limits.residual),
+                                       dem.p0, limits.cooling);
+  const auto cont_m = dem::stop_metrics(
+      stop.time, stop.granular_temperature, stop.pressure,
+      dem::residual_mean(rev.series.strain, rev.series.granular_temperature, limits.residual),
+      dem.p0, limits.cooling);
+  auto& sum = ctx.summary;
+  const std::string cont = "cont" + suffix;
+  const std::pair<const char*, std::pair<double, double>> metrics[] = {
+      {"flowing_T", {dem_m.flowing_temperature, cont_m.flowing_temperature}},
+      {"cooling_time", {dem_m.cooling_time, cont_m.cooling_time}},
+      {"stop_T_over_flowing_T", {dem_m.final_temperature_ratio, cont_m.final_temperature_ratio}},
+      {"stop_p_over_p0", {dem_m.final_p_over_p0, cont_m.final_p_over_p0}},
+  };
+  for (const auto& [name, values] : metrics) {
+    if (suffix.empty()) {
+      sum.set(metric_key("dem", name, g), values.first);
+      ctx.result.attribute(group, std::string("dem_") + name, values.first);
+      if (const auto e = dem.metric_err.find(name); e != dem.metric_err.end())
+        sum.set(metric_key("dem", std::string(name) + "_err", g), e->second);
+    }
+    sum.set(metric_key(cont, name, g), values.second);
+    ctx.result.attribute(group, cont + "_" + name, values.second);
+  }
+  const bool both = dem_m.cooling_time > 0 && cont_m.cooling_time > 0;
+  if (both)
+    sum.set(metric_key("rel_err" + suffix, "cooling_time", g),
+            relative_error(cont_m.cooling_time, dem_m.cooling_time));
+  ctx.log->info(
+      "  shear stopped: T below {:g} × the flowing T after {} (DEM) and {} (continuum){}; p' at "
+      "the end {:.3g} p0 (DEM), {:.3g} p0 (continuum)",
+      limits.cooling,
+      dem_m.cooling_time > 0 ? fmt::format("{:.4g} s", dem_m.cooling_time) : "never",
+      cont_m.cooling_time > 0 ? fmt::format("{:.4g} s", cont_m.cooling_time) : "never",
+      both ? fmt::format(", ratio {:.3g}", cont_m.cooling_time / dem_m.cooling_time) : "",
+      dem_m.final_p_over_p0, cont_m.final_p_over_p0);
 }
 
 // The continuum's undrained shear of one condition beside the DEM's: series under
@@ -169,6 +242,13 @@ bool compare(core::RunContext& ctx, const core::Case& condition, const DemTransi
   const bool within = std::abs(cont_m.residual_tau - dem_m.residual_tau) <= 2.0 * band_err;
   if (suffix.empty()) sum.set(metric_key("dem", "residual_tau_band", g), band_err);
   sum.set(metric_key(cont, "residual_tau_within_band", g), within ? 1 : 0);
+  if (!dem.stop_time.empty()) try {
+      compare_stop(ctx, condition, dem, rev, limits, group, g, suffix);
+    } catch (const core::NumericalFailure& e) {
+      ctx.log->error("condition {}: the continuum's stop stage stopped: {}", index, e.what());
+      ctx.result.flush();
+      return false;
+    }
   ctx.log->info(
       "condition {}{} (φ0 = {:.4f}, p0 = {:.4g} Pa, γ̇ = {:g} 1/s): peak τ DEM {:.4g} Pa at γ = "
       "{:.3g}, continuum {:.4g} Pa at {:.3g} ({:+.1f} %); liquefied: DEM {}, continuum {}; "
@@ -363,8 +443,16 @@ int run_transient_pair_case(core::RunContext& ctx) {
     t.tau_mean = core::read_dataset(h5, group + tau_name + band::band_mean);
     t.tau_min = core::read_dataset(h5, group + tau_name + band::band_min);
     t.tau_max = core::read_dataset(h5, group + tau_name + band::band_max);
+    const std::string T_name = band::transient_band[3].column.name;  // T
+    t.T_mean = core::read_dataset(h5, group + T_name + band::band_mean);
+    if (core::dataset_exists(h5, group + "stop/" + core::columns::time.name)) {
+      t.stop_time = core::read_dataset(h5, group + "stop/" + core::columns::time.name);
+      t.stop_T_mean = core::read_dataset(h5, group + "stop/" + T_name + band::band_mean);
+      t.stop_p_mean = core::read_dataset(h5, group + "stop/" + p_name + band::band_mean);
+    }
     for (const char* name : {"peak_tau", "peak_strain", "residual_tau", "residual_p",
-                             "p_final_over_p0", "liquefaction_strain"})
+                             "p_final_over_p0", "liquefaction_strain", "flowing_T", "cooling_time",
+                             "stop_T_over_flowing_T", "stop_p_over_p0"})
       try {
         t.metric_err[name] = core::read_number_attribute(h5, group, std::string("err_") + name);
       } catch (const std::exception&) {  // no seed liquefied: no liquefaction strain
@@ -401,7 +489,8 @@ int run_transient_pair_case(core::RunContext& ctx) {
 
   // ---- continuum side, condition by condition (the DEM's /transient/group_G, in sweep order)
   const Thresholds limits{c.number("transient.liquefaction_fraction"),
-                          c.number("transient.residual_fraction")};
+                          c.number("transient.residual_fraction"),
+                          c.number("stop.cooling_fraction")};
   for (std::size_t g = 0; g < conditions.size(); ++g) {
     const std::string key = conditions.size() > 1 ? fmt::format(".{}", g) : std::string();
     const std::string group = fmt::format("/transient_pair/group_{}", g);

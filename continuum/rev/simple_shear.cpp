@@ -254,6 +254,7 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
     }
     if (progress && step % 1000 == 0) progress(strain);
     // SIGINT/SIGTERM: stop here with the state so far (steady.reached says whether it was).
+    result.final_state = state;
     if (quiet_steps >= 5 || strain >= control.max_strain || core::interrupted()) {
       auto& s = result.steady;
       s.reached = quiet_steps >= 5;

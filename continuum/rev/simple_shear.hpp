@@ -80,6 +80,7 @@ struct SimpleShearResult {
   // and the trial advances it took in all.
   double max_normal_stress_residual = 0;
   long solver_evaluations = 0;
+  continuum::PointState final_state;  // the point's state after the last step
 };
 
 // Runs to steady state, filling `result` as it goes. `progress(strain)` is called now and then

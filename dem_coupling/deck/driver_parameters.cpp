@@ -44,6 +44,7 @@ std::string driver_parameter_lines(const DriverParameters& p) {
         "variable gf_temperature_scale equal {:.17g}\n",
         p.check_every, p.targets.confirm_checks, p.temperature_scale);
   }
+  if (p.stop_steps > 0) lines += fmt::format("variable gf_stop_steps equal {}\n", p.stop_steps);
   return lines;
 }
 
@@ -63,22 +64,40 @@ DriverParameters driver_parameters_from_words(const std::vector<std::string>& wo
       throw std::invalid_argument("'" + word + "': expected NAME=NUMBER");
     }
     const long integer = std::lround(value);
-    if (name == "shear_rate") p.shear_rate = value;
-    else if (name == "total_steps") p.total_steps = integer;
-    else if (name == "sample_every") p.sample_every = integer;
-    else if (name == "constant_pressure") p.constant_pressure = integer != 0;
-    else if (name == "normal_stress") p.normal_stress = value;
-    else if (name == "servo_gain") p.servo_gain = value;
-    else if (name == "servo_max_strain") p.servo_max_strain = value;
-    else if (name == "servo_every") p.servo_every = integer, servo_every_given = true;
-    else if (name == "servo_move_every") p.servo_move_every = integer;
-    else if (name == "profile_bins") p.profile_bins = int(integer);
-    else if (name == "particle_density") p.particle_density = value;
-    else if (name == "check_every") p.check_every = integer;
-    else if (name == "confirm_checks") p.targets.confirm_checks = int(integer);
-    else if (name == "temperature_scale") p.temperature_scale = value;
-    else if (const auto k = target_index(name); k < target_observables.size()) p.targets.error[k] = value;
-    else throw std::invalid_argument("'" + word + "': unknown parameter '" + name + "'");
+    if (name == "shear_rate")
+      p.shear_rate = value;
+    else if (name == "total_steps")
+      p.total_steps = integer;
+    else if (name == "sample_every")
+      p.sample_every = integer;
+    else if (name == "constant_pressure")
+      p.constant_pressure = integer != 0;
+    else if (name == "normal_stress")
+      p.normal_stress = value;
+    else if (name == "servo_gain")
+      p.servo_gain = value;
+    else if (name == "servo_max_strain")
+      p.servo_max_strain = value;
+    else if (name == "servo_every")
+      p.servo_every = integer, servo_every_given = true;
+    else if (name == "servo_move_every")
+      p.servo_move_every = integer;
+    else if (name == "profile_bins")
+      p.profile_bins = int(integer);
+    else if (name == "particle_density")
+      p.particle_density = value;
+    else if (name == "check_every")
+      p.check_every = integer;
+    else if (name == "confirm_checks")
+      p.targets.confirm_checks = int(integer);
+    else if (name == "temperature_scale")
+      p.temperature_scale = value;
+    else if (name == "stop_steps")
+      p.stop_steps = integer;
+    else if (const auto k = target_index(name); k < target_observables.size())
+      p.targets.error[k] = value;
+    else
+      throw std::invalid_argument("'" + word + "': unknown parameter '" + name + "'");
   }
   if (!servo_every_given) p.servo_every = p.sample_every;
   return p;

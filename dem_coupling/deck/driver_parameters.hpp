@@ -39,17 +39,17 @@ struct ErrorTargets {
 };
 
 struct DriverParameters {
-  double shear_rate = 0.0;       // gf_shear_rate, 1/s (0: no shear, the box is held)
-  long total_steps = 0;          // gf_total_steps of the shear stage
-  long sample_every = 1;         // gf_sample_every: steps per sample
+  double shear_rate = 0.0;         // gf_shear_rate, 1/s (0: no shear, the box is held)
+  long total_steps = 0;            // gf_total_steps of the shear stage
+  long sample_every = 1;           // gf_sample_every: steps per sample
   bool constant_pressure = false;  // gf_constant_pressure: the servo holds gf_normal_stress
-  double normal_stress = 0.0;    // gf_normal_stress, Pa
-  double servo_gain = 0.0;       // gf_servo_gain
-  double servo_max_strain = 0.0;  // gf_servo_max_strain: largest height change per servo step
-  long servo_every = 1;          // gf_servo_every: steps between servo updates
+  double normal_stress = 0.0;      // gf_normal_stress, Pa
+  double servo_gain = 0.0;         // gf_servo_gain
+  double servo_max_strain = 0.0;   // gf_servo_max_strain: largest height change per servo step
+  long servo_every = 1;            // gf_servo_every: steps between servo updates
   std::optional<long> servo_move_every;  // gf_servo_move_every (immersed decks); unset: omitted
-  int profile_bins = 2;          // gf_profile_bins: bins of the velocity profile across y
-  double particle_density = 0.0;  // gf_particle_density, kg/m³
+  int profile_bins = 2;                  // gf_profile_bins: bins of the velocity profile across y
+  double particle_density = 0.0;         // gf_particle_density, kg/m³
   // Error-targeted run length, written only when targets.any() (a deck without them runs
   // total_steps, unchanged): gf_target_<observable> (0: none), gf_check_every (steps between the
   // checks, a multiple of the servo interval), gf_confirm_checks (targets.confirm_checks),
@@ -58,6 +58,9 @@ struct DriverParameters {
   ErrorTargets targets;
   long check_every = 0;
   double temperature_scale = 0.0;
+  // gf_stop_steps, written only when > 0: after the shear, the shear stopped at constant volume
+  // for this many steps (driver/shear_stop.hpp).
+  long stop_steps = 0;
 };
 
 // "variable gf_<name> equal <value>" lines, reals with 17 significant digits (exact round trip).
@@ -70,7 +73,7 @@ std::string granular_atom_setup();
 // variable without its prefix: shear_rate, total_steps, sample_every, constant_pressure,
 // normal_stress, servo_gain, servo_max_strain, servo_every, servo_move_every, profile_bins,
 // particle_density, target_friction, target_solid_fraction, target_temperature, check_every,
-// confirm_checks, temperature_scale); servo_every defaults to sample_every. Throws
+// stop_steps, confirm_checks, temperature_scale); servo_every defaults to sample_every. Throws
 // std::invalid_argument naming a word that is not NAME=VALUE with a known NAME and a number.
 DriverParameters driver_parameters_from_words(const std::vector<std::string>& words);
 

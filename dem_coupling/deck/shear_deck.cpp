@@ -192,6 +192,10 @@ std::vector<std::pair<std::string, std::string>> check_shear_params(const ShearD
   }
   if (p.constant_pressure && !(p.servo_strain >= p.sample_strain))
     issues.emplace_back("control.servo_strain", ">= strain.sample");
+  if (p.constant_pressure && p.stop_duration > 0.0)
+    issues.emplace_back("stop.duration",
+                        "0 under control.mode constant_pressure (the stop holds "
+                        "the volume)");
   if (issues.empty()) {
     // The compressed periodic box must hold a few of the largest particles across, or the
     // ghost shell (cutoff d_max + skin) would wrap onto itself.
@@ -287,6 +291,11 @@ ShearDeck shear_deck_timing(const ShearDeckParams& p) {
   out.total_steps =
       std::max(1L, std::lround(double(steps_for(p.total_strain, p.shear_rate, out.dt)) / block)) *
       block;
+  // The stop stage: whole samples, at least one.
+  if (p.stop_duration > 0.0)
+    out.stop_steps =
+        std::max(1L, std::lround(p.stop_duration / out.dt / double(out.sample_every))) *
+        out.sample_every;
   // The checks of strain.target_error end on whole blocks, so a run stopped there is the first
   // part of a fixed run of that length, step for step (the servo's segments are the same).
   if (p.targets.any())
@@ -400,6 +409,7 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
   driver.particle_density = m.particle_density;
   driver.targets = p.targets;
   driver.check_every = out.check_every;
+  driver.stop_steps = out.stop_steps;
   // (d γ̇)² as point_analysis.cpp forms it, so the frozen check is the same number
   driver.temperature_scale = out.mean_diameter * p.shear_rate * out.mean_diameter * p.shear_rate;
   const double skin = 0.2 * out.mean_diameter;
@@ -407,15 +417,17 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
   // The start: the random gas compressed to φ (stage 1), or a prepared state read whole.
   const bool prepared = !p.prepared_restart.empty();
   const std::string start_commands =
-      prepared ? fmt::format("# prepared state (kind: dem_prepare): atoms, box, contact history\n"
-                             "read_restart    {}\ncommunicate     single vel yes",
-                             p.prepared_restart)
+      prepared ? fmt::format(
+                     "# prepared state (kind: dem_prepare): atoms, box, contact history\n"
+                     "read_restart    {}\ncommunicate     single vel yes",
+                     p.prepared_restart)
                : fmt::format("read_data       {}", data_file_name);
   const std::string stage1 =
       prepared
-          ? std::string("# ---- stage 1: none, the prepared state is at rest at its p0 (after a\n"
-                        "# restart LIGGGHTS wants reset_timestep right before a run)\n"
-                        "reset_timestep  0\nrun             0\n")
+          ? std::string(
+                "# ---- stage 1: none, the prepared state is at rest at its p0 (after a\n"
+                "# restart LIGGGHTS wants reset_timestep right before a run)\n"
+                "reset_timestep  0\nrun             0\n")
           : fmt::format(
                 "# ---- stage 1: isotropic compression from the random insertion at phi = "
                 "{0:.6g} to phi =\n# {1:.6g} (box edge {2:.6g} m -> {3:.6g} m)\n"
@@ -424,11 +436,12 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
                 out.insertion_solid_fraction, p.solid_fraction, out.initial_box_length,
                 out.box_length, compression);
   const std::string ramp =
-      prepared ? fmt::format("variable        gf_ylo equal ylo\nvariable        gf_yhi equal yhi\n"
-                             "variable        gf_vtop equal {:.17g}*ly\n"
-                             "velocity        all ramp vx 0 ${{gf_vtop}} y ${{gf_ylo}} ${{gf_yhi}} "
-                             "units box sum yes",
-                             p.shear_rate)
+      prepared ? fmt::format(
+                     "variable        gf_ylo equal ylo\nvariable        gf_yhi equal yhi\n"
+                     "variable        gf_vtop equal {:.17g}*ly\n"
+                     "velocity        all ramp vx 0 ${{gf_vtop}} y ${{gf_ylo}} ${{gf_yhi}} "
+                     "units box sum yes",
+                     p.shear_rate)
                : fmt::format("velocity        all ramp vx 0 {:.17g} y 0 {:.17g} units box sum yes",
                              top_speed, out.box_length);
   out.deck = fmt::format(
@@ -478,8 +491,7 @@ thermo          0                            # thermo (and the virial) at the en
                             p.dt_safety, out.times.rayleigh, out.times.hertz, reference_speed)),
       fmt::arg("gd", p.shear_rate), fmt::arg("driver_parameters", driver_parameter_lines(driver)),
       fmt::arg("atom_setup", granular_atom_setup()), fmt::arg("read", start_commands),
-      fmt::arg("stage1", stage1), fmt::arg("ramp", ramp),
-      fmt::arg("skin", skin),
+      fmt::arg("stage1", stage1), fmt::arg("ramp", ramp), fmt::arg("skin", skin),
       fmt::arg("contact", contact_law_commands(m, out.mean_diameter)), fmt::arg("dt", out.dt),
       fmt::arg("thermo_comp", std::max(1L, p.compression_steps / 5)),
       fmt::arg("t0", out.initial_temperature),

@@ -93,13 +93,15 @@ struct ShearDeckParams {
   double servo_strain = 0.1;        // shear strain between servo updates
   double shear_rate = 20.0;         // 1/s
   double total_strain = 20.0;       // with targets: the largest run (strain.max)
+  // After the shear: the shear stopped at constant volume for this long (s); 0: no stop stage.
+  double stop_duration = 0.0;
   double sample_strain = 0.01;  // shear strain between samples
   // strain.target_error: granflow-dem stops once the steady window has been steady with its
   // errors within these at targets.confirm_checks consecutive checks (kind/steady_checks.hpp);
   // none: it runs total_strain.
   ErrorTargets targets;
-  double check_strain = 0.5;    // shear strain between those checks (strain.check)
-  double dt_safety = 0.1;       // dt = dt_safety * min(t_Rayleigh, t_Hertz) (hooke: * t_c linear)
+  double check_strain = 0.5;  // shear strain between those checks (strain.check)
+  double dt_safety = 0.1;     // dt = dt_safety * min(t_Rayleigh, t_Hertz) (hooke: * t_c linear)
   double impact_speed_factor = 3.0;  // reference impact speed = factor * shear_rate * d_max
   int profile_bins = 10;
   double snapshot_strain = 0.0;  // shear strain between particle snapshots; 0: none
@@ -122,6 +124,7 @@ struct ShearDeck {
   FluidTimeScales fluid_times;       // wet: the time scales at the solid fraction below
   double fluid_solid_fraction = 0;   // wet: ν used for the drag time scale
   long sample_every = 0, servo_every = 0, total_steps = 0;
+  long stop_steps = 0;  // steps of the stop stage, whole samples (0: none)
   // strain.target_error: steps between the checks of the targets, whole servo intervals (whole
   // samples at constant volume); 0 without targets.
   long check_every = 0;

@@ -56,6 +56,7 @@
 #include "dem_coupling/driver/contact_probe.hpp"
 #include "dem_coupling/driver/prepare_stage.hpp"
 #include "dem_coupling/driver/series_output.hpp"
+#include "dem_coupling/driver/shear_stop.hpp"
 #include "dem_coupling/driver/stopping_rule.hpp"
 #include "dem_coupling/extraction/normal_stress_servo.hpp"
 #include "dem_coupling/extraction/shear_sample.hpp"
@@ -278,9 +279,9 @@ int main(int argc, char** argv) {
   if (argc >= 2 && std::string(argv[1]) == "--header") {
     try {
       const auto p = granflow::dem::driver_parameters_from_words({argv + 2, argv + argc});
-      std::fputs((granflow::dem::driver_parameter_lines(p) + granflow::dem::granular_atom_setup())
-                     .c_str(),
-                 stdout);
+      std::fputs(
+          (granflow::dem::driver_parameter_lines(p) + granflow::dem::granular_atom_setup()).c_str(),
+          stdout);
       return 0;
     } catch (const std::invalid_argument& e) {
       std::fprintf(stderr, "granflow-dem --header: %s\n", e.what());
@@ -424,6 +425,56 @@ int main(int argc, char** argv) {
   int segment_samples = 0;
   char command[512];
 
+  // One sample of the harness after a run: the sums over ranks, the row of the series. `rate`:
+  // the streaming profile's γ̇ (0 once the shear is stopped); the strain of a sample of the stop
+  // stage is the strain at the stop, `strain_end` its step.
+  auto sample = [&](double rate, long strain_end) -> ShearSample {
+    local.clear();
+    const int nlocal = *static_cast<int*>(lammps_extract_global(handle, "nlocal"));
+    auto** x = static_cast<double**>(lammps_extract_atom(handle, "x"));
+    auto** v = static_cast<double**>(lammps_extract_atom(handle, "v"));
+    const auto* mass = static_cast<double*>(lammps_extract_atom(handle, "rmass"));
+    const auto* radius = static_cast<double*>(lammps_extract_atom(handle, "radius"));
+    const LAMMPS_NS::Domain& domain = *lmp->domain;
+    const granflow::dem::ShearFrame frame{rate, domain.boxlo[1], domain.yprd};
+    granflow::dem::ParticleView view{nlocal, nlocal ? x[0] : nullptr, nlocal ? v[0] : nullptr, mass,
+                                     radius};
+    granflow::dem::accumulate_particles(view, frame, local);
+    if (const LAMMPS_NS::NeighList* list = lmp->force->pair->list) {
+      granflow::dem::HalfNeighborList half{list->inum, list->ilist, list->numneigh,
+                                           list->firstneigh, NEIGHMASK};
+      granflow::dem::accumulate_contacts(half, nlocal ? x[0] : nullptr, radius, nlocal, local);
+    }
+    MPI_Allreduce(local.data(), global.data(), local.size(), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+    std::array<double, 6> virial_stress{};
+    if (averaged_virial) {
+      for (int k = 0; k < 6; ++k) virial_stress[k] = stress_average_entry(handle, k);
+    } else {
+      const auto* virial = static_cast<double*>(lammps_extract_compute(handle, "gf_virial", 0, 1));
+      if (virial == nullptr) usage_error(rank, "deck defines no compute gf_virial (pressure)");
+      for (int k = 0; k < 6; ++k) virial_stress[k] = virial[k];
+    }
+    const granflow::dem::BoxState box{domain.xprd, domain.yprd, domain.zprd, domain.xy};
+    ShearSample s =
+        granflow::dem::finalize_sample(global, virial_stress, box, frame, particle_density);
+    s.step = lmp->update->ntimestep;
+    s.time = double(s.step - shear_begin) * dt;
+    s.strain = rate > 0.0 ? rate * s.time : shear_rate * double(strain_end - shear_begin) * dt;
+    check_sample(s, rank);
+    const double overlap = mean_overlap(handle, *lmp);
+    // Z without rattlers, the non-rattler fraction and the fabric (contact_probe.hpp)
+    const granflow::dem::NetworkState network =
+        granflow::dem::probe_contacts(handle, *lmp, {}).network;
+    FluidStress fluid;
+    if (wet) fluid = fluid_stress(handle, s, rank);
+    if (rank == 0) {
+      write_series_row(series, s, overlap, network, wet ? &fluid : nullptr);
+      write_profile_row(profile, s);
+    }
+    ++samples;
+    return s;
+  };
+
   bool height_commanded = false;  // fix gf_shear moves the height (from the last servo update)
   long done = 0;                  // shear steps run
   while (done < total_steps) {
@@ -455,53 +506,8 @@ int main(int argc, char** argv) {
         liggghts_cpu_seconds += process_cpu_seconds() - cpu0;
         const auto t1 = Clock::now();
         liggghts_seconds += std::chrono::duration<double>(t1 - t0).count();
-        // ---- sample (the harness)
-        local.clear();
-        const int nlocal = *static_cast<int*>(lammps_extract_global(handle, "nlocal"));
-        auto** x = static_cast<double**>(lammps_extract_atom(handle, "x"));
-        auto** v = static_cast<double**>(lammps_extract_atom(handle, "v"));
-        const auto* mass = static_cast<double*>(lammps_extract_atom(handle, "rmass"));
-        const auto* radius = static_cast<double*>(lammps_extract_atom(handle, "radius"));
-        const LAMMPS_NS::Domain& domain = *lmp->domain;
-        const granflow::dem::ShearFrame frame{shear_rate, domain.boxlo[1], domain.yprd};
-        granflow::dem::ParticleView view{nlocal, nlocal ? x[0] : nullptr, nlocal ? v[0] : nullptr,
-                                         mass, radius};
-        granflow::dem::accumulate_particles(view, frame, local);
-        if (const LAMMPS_NS::NeighList* list = lmp->force->pair->list) {
-          granflow::dem::HalfNeighborList half{list->inum, list->ilist, list->numneigh,
-                                               list->firstneigh, NEIGHMASK};
-          granflow::dem::accumulate_contacts(half, nlocal ? x[0] : nullptr, radius, nlocal, local);
-        }
-        MPI_Allreduce(local.data(), global.data(), local.size(), MPI_DOUBLE, MPI_SUM,
-                      MPI_COMM_WORLD);
-        std::array<double, 6> virial_stress{};
-        if (averaged_virial) {
-          for (int k = 0; k < 6; ++k) virial_stress[k] = stress_average_entry(handle, k);
-        } else {
-          const auto* virial =
-              static_cast<double*>(lammps_extract_compute(handle, "gf_virial", 0, 1));
-          if (virial == nullptr) usage_error(rank, "deck defines no compute gf_virial (pressure)");
-          for (int k = 0; k < 6; ++k) virial_stress[k] = virial[k];
-        }
-        const granflow::dem::BoxState box{domain.xprd, domain.yprd, domain.zprd, domain.xy};
-        ShearSample s =
-            granflow::dem::finalize_sample(global, virial_stress, box, frame, particle_density);
-        s.step = lmp->update->ntimestep;
-        s.time = double(s.step - shear_begin) * dt;
-        s.strain = shear_rate * s.time;
-        check_sample(s, rank);
-        const double overlap = mean_overlap(handle, *lmp);
-        // Z without rattlers, the non-rattler fraction and the fabric (contact_probe.hpp)
-        const granflow::dem::NetworkState network =
-            granflow::dem::probe_contacts(handle, *lmp, {}).network;
-        FluidStress fluid;
-        if (wet) fluid = fluid_stress(handle, s, rank);
-        if (rank == 0) {
-          write_series_row(series, s, overlap, network, wet ? &fluid : nullptr);
-          write_profile_row(profile, s);
-          if (rule) rule->add(s);
-        }
-        ++samples;
+        const ShearSample s = sample(shear_rate, shear_begin);
+        if (rank == 0 && rule) rule->add(s);
         if (measured) {
           segment_normal_stress += s.normal_stress;
           ++segment_samples;
@@ -545,6 +551,37 @@ int main(int argc, char** argv) {
   if (rule && done == total_steps && rank == 0)  // strain.max: which targets were missed
     std::printf("granflow-dem: strain.target_error: strain.max reached at %s\n",
                 rule->describe(rule->check(), shear_rate * double(done) * dt).c_str());
+  // 6. The stop stage (gf_stop_steps, optional): the shear stopped at constant volume
+  // (driver/shear_stop.hpp), sampled every gf_sample_every steps; its rows follow the shear's in
+  // the series, at the strain of the stop.
+  long stop_steps = 0, stop_done = 0;
+  if (void* p = lammps_extract_variable(handle, const_cast<char*>("gf_stop_steps"), nullptr)) {
+    stop_steps = std::lround(*static_cast<double*>(p));
+    std::free(p);
+  }
+  if (stop_steps > 0) {
+    const long stop_begin = shear_begin + done;
+    const granflow::dem::StoppedFlow stopped = granflow::dem::stop_shear(handle, *lmp, shear_rate);
+    if (rank == 0)
+      std::printf(
+          "granflow-dem: shear stopped at step %ld (strain %.6g): streaming profile, mean spin "
+          "%.6g 1/s and drift (%.3g, %.3g, %.3g) m/s taken out; %ld steps at constant volume\n",
+          stop_begin, shear_rate * double(done) * dt, stopped.mean_spin, stopped.drift[0],
+          stopped.drift[1], stopped.drift[2], stop_steps);
+    for (; stop_done < stop_steps; stop_done += sample_every) {
+      const long n = std::min(sample_every, stop_steps - stop_done);
+      std::snprintf(command, sizeof command, "run %ld pre %s post no", n,
+                    stop_done == 0 ? "yes" : "no");
+      const auto t0 = Clock::now();
+      const double cpu0 = process_cpu_seconds();
+      lammps_command(handle, command);
+      liggghts_cpu_seconds += process_cpu_seconds() - cpu0;
+      const auto t1 = Clock::now();
+      liggghts_seconds += std::chrono::duration<double>(t1 - t0).count();
+      sample(0.0, stop_begin);
+      harness_seconds += std::chrono::duration<double>(Clock::now() - t1).count();
+    }
+  }
   const double natoms = double(lammps_get_natoms(handle));
   double cpu_all_ranks = liggghts_cpu_seconds;  // summed over ranks (MPI waits included)
   MPI_Reduce(&liggghts_cpu_seconds, &cpu_all_ranks, 1, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
@@ -559,7 +596,7 @@ int main(int argc, char** argv) {
     }
     int ranks = 1;
     MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-    const double particle_steps_per_s = natoms * double(done) / liggghts_seconds;
+    const double particle_steps_per_s = natoms * double(done + stop_done) / liggghts_seconds;
     // steps: the shear steps run (fewer than gf_total_steps when strain.target_error stopped the
     // run); checks, check_s: the stopping rule's checks and their wall time on rank 0.
     const long checks = rule ? rule->checks() : 0;

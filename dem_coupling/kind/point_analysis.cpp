@@ -8,11 +8,11 @@
 #include <map>
 #include <span>
 
-#include "statistics/steady_state.hpp"
 #include "dem_coupling/kind/dem_columns.hpp"
 #include "dem_coupling/kind/dem_fits.hpp"
 #include "dem_coupling/kind/series_table.hpp"
 #include "dem_coupling/kind/steady_checks.hpp"
+#include "statistics/steady_state.hpp"
 
 namespace granflow::dem {
 
@@ -77,7 +77,7 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
                           const std::string& group, const ShearDeckParams& p,
                           const ShearDeck& deck) {
   PointResult r;
-  const SeriesTable t = read_series_table(dir / "series.tsv");
+  SeriesTable t = read_series_table(dir / "series.tsv");
   auto& out = ctx.result;
   if (t.rows() > 0) {
     for (const DemColumn& c : dem_columns::series)
@@ -95,6 +95,11 @@ PointResult analyse_point(core::RunContext& ctx, const std::filesystem::path& di
       out.write_matrix(group + "/profile/velocity", matrix, prof.rows(), bins, "m/s",
                        "mean v_x per y bin (rows: samples, cols: bins from ylo up)");
       out.write(group + "/profile/strain", prof.at("1"), "1", "shear strain of each row");
+    }
+    // The series above keep the stop's rows (stop.duration); the analysis below is the shear's.
+    if (p.stop_duration > 0.0) {
+      const std::size_t sheared = shear_rows(t.at("strain"));
+      for (auto& [name, column] : t.columns) column.resize(sheared);
     }
   }
   out.attribute(group, dem_columns::time_step.name, deck.dt);

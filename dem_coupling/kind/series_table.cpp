@@ -1,5 +1,6 @@
 #include "dem_coupling/kind/series_table.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -45,6 +46,11 @@ SeriesTable read_series_table(const std::filesystem::path& file, bool header) {
     for (std::size_t k = 0; k < row.size(); ++k) t.columns[t.names[k]].push_back(row[k]);
   }
   return t;
+}
+
+std::size_t shear_rows(std::span<const double> strain) {
+  if (strain.empty()) return 0;
+  return std::size_t(std::find(strain.begin(), strain.end(), strain.back()) - strain.begin()) + 1;
 }
 
 }  // namespace granflow::dem

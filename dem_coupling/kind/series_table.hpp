@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <map>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -19,5 +20,10 @@ struct SeriesTable {
 
 // `header` false: columns are named "0", "1", ... (the profile table).
 SeriesTable read_series_table(const std::filesystem::path& file, bool header = true);
+
+// Rows of a series that belong to the shear when a stop stage followed it (stop.duration): the
+// stop's rows repeat the strain of the stop (the last shear row's), so the shear ends at the
+// first row with the last strain.
+std::size_t shear_rows(std::span<const double> strain);
 
 }  // namespace granflow::dem

@@ -215,6 +215,19 @@ core::Schema shear_schema() {
       .default_value("0.2")
       .greater_than(0)
       .at_most(1);
+  auto& stop =
+      s.section("stop",
+                "after the shear, the shear stopped at constant volume (the streaming "
+                "flow taken out, the box held): the agitation decays (docs/transient_dem.md)");
+  stop.number("duration", "s", "how long the stopped sample is followed; 0: no stop stage")
+      .default_value("0")
+      .at_least(0);
+  stop.number("cooling_fraction", "",
+              "cooling time: the time after the stop at which T first falls below this fraction "
+              "of the flowing T (its mean over the residual window of the shear)")
+      .default_value("0.1")
+      .greater_than(0)
+      .less_than(1);
   auto& output = s.section("output", "what is written");
   output.integer("profile_bins", "y bins of the mean velocity profile")
       .default_value("10")
@@ -277,6 +290,7 @@ ShearDeckParams read_shear_params(const core::Case& c) {
                    : m.contact_law == ContactLaw::hooke ? c.number("strain.sample")
                                                         : 0.1;
   p.total_strain = c.number("strain.total");
+  p.stop_duration = c.number("stop.duration");
   p.sample_strain = c.number("strain.sample");
   // strain.target_error: the observables of target_observables (deck/driver_parameters.hpp);
   // the run is then at most strain.max long (dem_kind.cpp checks that it is given).

@@ -77,6 +77,42 @@ TransientMetrics transient_metrics(std::span<const double> strain, std::span<con
   return m;
 }
 
+StopMetrics stop_metrics(std::span<const double> time_since_stop, std::span<const double> T,
+                         std::span<const double> p, double flowing_temperature, double p0,
+                         double cooling_fraction) {
+  StopMetrics m;
+  m.flowing_temperature = flowing_temperature;
+  const std::size_t n = std::min({time_since_stop.size(), T.size(), p.size()});
+  if (n == 0 || !(flowing_temperature > 0)) return m;
+  const double target = cooling_fraction * flowing_temperature;
+  double t_prev = 0.0, T_prev = flowing_temperature;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (T[i] <= target) {
+      // ln T linear between the samples (Haff's T ∝ (1 + t/t_H)^-2 is close to it over a sample)
+      const double w =
+          T[i] > 0.0 && T_prev > T[i] ? std::log(T_prev / target) / std::log(T_prev / T[i]) : 1.0;
+      m.cooling_time = t_prev + std::clamp(w, 0.0, 1.0) * (time_since_stop[i] - t_prev);
+      break;
+    }
+    t_prev = time_since_stop[i], T_prev = T[i];
+  }
+  m.final_temperature_ratio = T[n - 1] / flowing_temperature;
+  m.final_p_over_p0 = p0 > 0.0 ? p[n - 1] / p0 : 0.0;
+  return m;
+}
+
+double residual_mean(std::span<const double> strain, std::span<const double> values,
+                     double residual_fraction) {
+  const std::size_t n = std::min(strain.size(), values.size());
+  if (n == 0) return std::numeric_limits<double>::quiet_NaN();
+  const double from = (1.0 - residual_fraction) * strain[n - 1];
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (strain[i] >= from) sum += values[i], ++count;
+  return sum / double(count);
+}
+
 PreparedState read_prepared_state(const core::Case& c, long seed) {
   const auto dir = preparation_directory(c);
   if (!std::filesystem::is_directory(dir))
@@ -118,7 +154,8 @@ void check_preparation_inputs(const core::Case& run_case) {
 TransientShear::TransientShear(const core::Case& run_case)
     : enabled_(run_case.has("start.preparation")),
       fraction_(run_case.number("transient.liquefaction_fraction")),
-      residual_(run_case.number("transient.residual_fraction")) {}
+      residual_(run_case.number("transient.residual_fraction")),
+      cooling_fraction_(run_case.number("stop.cooling_fraction")) {}
 
 void TransientShear::apply(const core::Case& c, ShearDeckParams& p) const {
   if (!enabled_) return;
@@ -143,21 +180,48 @@ void TransientShear::absorb(core::RunContext& ctx, std::size_t n, const std::fil
                      "hydrodynamic (lubrication + drag) part of tr(P)/3; p' = p - this");
   const PreparedState s = read_prepared_state(ctx.run_case, long(p.seed));
   Point& point = points_[n];
-  point.strain = t.at("strain");
+  const std::vector<double>& strain = t.at("strain");
+  // The shear's rows, then the stop's (stop.duration > 0), which repeat the strain of the stop.
+  const std::size_t sheared = p.stop_duration > 0.0 ? shear_rows(strain) : strain.size();
+  point.strain.assign(strain.begin(), strain.begin() + long(sheared));
+  for (std::size_t i = sheared; i < strain.size(); ++i)
+    point.stop_time.push_back(t.at("time")[i] - t.at("time")[sheared - 1]);
   for (const DemColumn& column : dem_columns::transient_band) {
     std::vector<double> v = t.at(column.key);
     // Immersed runs: p' is the effective (solid) mean stress, the hydrodynamic part of the virial
     // (lubrication + drag, series column p_fluid) taken out; dry runs: p.
     if (std::string_view(column.key) == "p" && t.columns.count("p_fluid"))
       for (std::size_t i = 0; i < v.size(); ++i) v[i] -= t.at("p_fluid")[i];
+    point.stop_band.emplace_back(v.begin() + long(sheared), v.end());
+    v.resize(sheared);
     point.band.push_back(std::move(v));
   }
   const std::vector<double>& p_eff = point.band[0];  // transient_band: p', then τ
   point.p0 = s.p;
   point.phi0 = s.phi;
-  point.metrics =
-      transient_metrics(point.strain, p_eff, point.band[1], s.p, fraction_, residual_);
+  point.metrics = transient_metrics(point.strain, p_eff, point.band[1], s.p, fraction_, residual_);
   const TransientMetrics& m = point.metrics;
+  if (!point.stop_time.empty()) {
+    constexpr std::size_t p_row = 0, T_row = 3;  // transient_band: p', τ, σ_yy, T, ...
+    point.stop = stop_metrics(point.stop_time, point.stop_band[T_row], point.stop_band[p_row],
+                              residual_mean(point.strain, point.band[T_row], residual_), s.p,
+                              cooling_fraction_);
+    const StopMetrics& q = point.stop;
+    for (const auto& [name, value] : std::initializer_list<std::pair<const char*, double>>{
+             {"flowing_T", q.flowing_temperature},
+             {"cooling_time", q.cooling_time},
+             {"stop_T_over_flowing_T", q.final_temperature_ratio},
+             {"stop_p_over_p0", q.final_p_over_p0}}) {
+      ctx.summary.set(fmt::format("transient.{}{}", name, suffix), value);
+      ctx.result.attribute(group + "/series", std::string("transient_") + name, value);
+    }
+    ctx.log->info(
+        "point {}: shear stopped for {:.4g} s: T fell below {:g} × the flowing T ({:.4g} m²/s²) "
+        "{}; at the end T = {:.3g} × flowing, p' = {:.3g} p0",
+        n, point.stop_time.back(), cooling_fraction_, q.flowing_temperature,
+        q.cooling_time >= 0 ? fmt::format("after {:.4g} s", q.cooling_time) : std::string("never"),
+        q.final_temperature_ratio, q.final_p_over_p0);
+  }
   const std::pair<const char*, double> values[] = {
       {"p0", s.p},
       {"phi0", s.phi},
@@ -224,6 +288,34 @@ void TransientShear::finish(core::RunContext& ctx, const std::vector<Condition>&
       ctx.result.write(name + dem_columns::band_min, low, column.unit, doc + ": lowest seed");
       ctx.result.write(name + dem_columns::band_max, high, column.unit, doc + ": highest seed");
     }
+    // The stop: time since the stop and the same bands over the stop's rows.
+    std::size_t stop_rows = members.front()->stop_time.size();
+    for (const Point* m : members) stop_rows = std::min(stop_rows, m->stop_time.size());
+    if (stop_rows > 0) {
+      const std::vector<double>& t0 = members.front()->stop_time;
+      ctx.result.write(group + "/stop/" + core::columns::time.name,
+                       std::vector<double>(t0.begin(), t0.begin() + long(stop_rows)),
+                       core::columns::time.unit, "time since the shear was stopped");
+      for (std::size_t k = 0; k < std::size(dem_columns::transient_band); ++k) {
+        const core::Column& column = dem_columns::transient_band[k].column;
+        std::vector<double> mean(stop_rows), low(stop_rows), high(stop_rows);
+        for (std::size_t i = 0; i < stop_rows; ++i) {
+          double sum = 0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
+          for (const Point* m : members) {
+            const double v = m->stop_band[k][i];
+            sum += v, lo = std::min(lo, v), hi = std::max(hi, v);
+          }
+          mean[i] = sum / double(members.size()), low[i] = lo, high[i] = hi;
+        }
+        const std::string name = group + "/stop/" + column.name;
+        const std::string doc = std::string(column.description) + ", shear stopped";
+        ctx.result.write(name + dem_columns::band_mean, mean, column.unit,
+                         doc + ": mean over the seeds, sample by sample");
+        ctx.result.write(name + dem_columns::band_min, low, column.unit, doc + ": lowest seed");
+        ctx.result.write(name + dem_columns::band_max, high, column.unit, doc + ": highest seed");
+      }
+      ctx.result.attribute(group + "/stop", "cooling_fraction", cooling_fraction_);
+    }
     // Metrics: mean over the seeds and its standard error (between-seed sd / sqrt(N)).
     auto stats = [&](auto get, const char* name) {
       std::vector<double> v;
@@ -252,6 +344,13 @@ void TransientShear::finish(core::RunContext& ctx, const std::vector<Condition>&
           return m.metrics.liquefaction_strain >= 0 ? m.metrics.liquefaction_strain : nan;
         },
         "liquefaction_strain");
+    if (stop_rows > 0) {
+      stats([](const Point& m) { return m.stop.flowing_temperature; }, "flowing_T");
+      stats([&](const Point& m) { return m.stop.cooling_time >= 0 ? m.stop.cooling_time : nan; },
+            "cooling_time");
+      stats([](const Point& m) { return m.stop.final_temperature_ratio; }, "stop_T_over_flowing_T");
+      stats([](const Point& m) { return m.stop.final_p_over_p0; }, "stop_p_over_p0");
+    }
     double liquefied = 0;
     for (const Point* m : members) liquefied += m->metrics.liquefaction_strain >= 0 ? 1 : 0;
     ctx.summary.set("transient.liquefied_seeds" + key_suffix, liquefied);

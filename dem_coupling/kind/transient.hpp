@@ -38,6 +38,24 @@ TransientMetrics transient_metrics(std::span<const double> strain, std::span<con
                                    std::span<const double> tau, double p0,
                                    double liquefaction_fraction, double residual_fraction);
 
+// The shear stopped (stop.duration > 0; driver/shear_stop.hpp): the agitation after the stop.
+//   flowing T: the mean T over the residual window of the shear (strain >= (1 - r) γ_total);
+//   cooling time: the first time after the stop at which T <= f × flowing T (f = stop.
+//     cooling_fraction), interpolated in ln T between samples (from (0, flowing T)); -1: never;
+//   final T / flowing T and final p' / p0: the last sample of the stop.
+struct StopMetrics {
+  double flowing_temperature = 0, cooling_time = -1, final_temperature_ratio = 0;
+  double final_p_over_p0 = 0;
+};
+
+StopMetrics stop_metrics(std::span<const double> time_since_stop, std::span<const double> T,
+                         std::span<const double> p, double flowing_temperature, double p0,
+                         double cooling_fraction);
+
+// Mean of `values` over the residual window (strain >= (1 - r) × the last strain).
+double residual_mean(std::span<const double> strain, std::span<const double> values,
+                     double residual_fraction);
+
 // The prepared state of one seed: the restart file and the state it holds.
 struct PreparedState {
   std::filesystem::path restart;
@@ -73,9 +91,12 @@ class TransientShear {
     std::vector<std::vector<double>> band;  // one series per row of dem_columns::transient_band
     TransientMetrics metrics;
     double p0 = 0, phi0 = 0;
+    std::vector<double> stop_time;               // since the stop (empty: no stop stage)
+    std::vector<std::vector<double>> stop_band;  // as band, over the stop's rows
+    StopMetrics stop;
   };
   bool enabled_ = false;
-  double fraction_ = 0.05, residual_ = 0.2;
+  double fraction_ = 0.05, residual_ = 0.2, cooling_fraction_ = 0.1;
   std::map<std::size_t, Point> points_;
 };
 

@@ -2,9 +2,9 @@
 // (start.preparation), end to end through the granflow program, plus the contact network and
 // the transient metrics as pure functions. Two 250-sphere packings at p0 = 100 Pa (frictionless
 // and μ_prep = 0.5) are prepared once for the suite (~10-20 s), then sheared over small strains.
-#include <algorithm>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +14,7 @@
 #include "core/result_file.hpp"
 #include "core/run.hpp"
 #include "dem_coupling/extraction/contact_network.hpp"
+#include "dem_coupling/kind/series_table.hpp"
 #include "dem_coupling/kind/transient.hpp"
 #include "tests/dem/cli_run.hpp"
 
@@ -57,6 +58,27 @@ TEST(ContactNetwork, IsotropicFabricIsTraceFreeZero) {
   const auto s = granflow::dem::network_state(3, pairs);
   for (double f : s.fabric) EXPECT_NEAR(f, 0.0, 1e-15);
   EXPECT_NEAR(s.anisotropy, 0.0, 1e-15);
+}
+
+TEST(StopMetrics, HaffDecaySampled) {
+  // T = T0 / (1 + t/t_H)² sampled every 0.1 t_H: T = 0.1 T0 at t = (√10 - 1) t_H = 2.1623 t_H;
+  // ln T is nearly linear over a sample there, so the interpolated time is within 1e-3 t_H.
+  std::vector<double> t, T, p;
+  for (int i = 1; i <= 100; ++i) {
+    t.push_back(0.1 * i);
+    T.push_back(2.0 / std::pow(1.0 + 0.1 * i, 2));
+    p.push_back(3.0);
+  }
+  const auto m = granflow::dem::stop_metrics(t, T, p, 2.0, 100.0, 0.1);
+  EXPECT_NEAR(m.cooling_time, std::sqrt(10.0) - 1.0, 1e-3);
+  EXPECT_DOUBLE_EQ(m.final_temperature_ratio, 1.0 / (11.0 * 11.0));
+  EXPECT_DOUBLE_EQ(m.final_p_over_p0, 0.03);
+  // Never that cold within the series: -1.
+  EXPECT_EQ(granflow::dem::stop_metrics(t, T, p, 2.0, 100.0, 1e-3).cooling_time, -1.0);
+  // The shear's rows end at the first row with the strain of the stop.
+  const std::vector<double> strain{0.1, 0.2, 0.3, 0.3, 0.3};
+  EXPECT_EQ(granflow::dem::shear_rows(strain), 3u);
+  EXPECT_EQ(granflow::dem::shear_rows(std::vector<double>{0.1, 0.2}), 2u);
 }
 
 TEST(TransientMetrics, ClosedFormDecay) {
@@ -188,10 +210,9 @@ TEST(DemPrepare, LooseAndDensePackingsAndTheTransientsFromThem) {
     ASSERT_GT(strain.size(), 100u);
     EXPECT_NEAR(strain.front(), 0.002, 1e-4);
     // The series the docs list, with the sample count of 0.3 / 0.002.
-    for (const char* name :
-         {"mean_stress_mean", "mean_stress_min", "mean_stress_max", "shear_stress_mean",
-          "normal_stress_mean", "granular_temperature_mean", "coordination_number_nonrattler_mean",
-          "nonrattler_fraction_mean"})
+    for (const char* name : {"mean_stress_mean", "mean_stress_min", "mean_stress_max",
+                             "shear_stress_mean", "normal_stress_mean", "granular_temperature_mean",
+                             "coordination_number_nonrattler_mean", "nonrattler_fraction_mean"})
       EXPECT_EQ(granflow::core::read_dataset(dir_ / "dense_shear" / "result.h5",
                                              std::string("/transient/group_0/") + name)
                     .size(),
@@ -214,6 +235,45 @@ TEST(DemPrepare, LooseAndDensePackingsAndTheTransientsFromThem) {
     };
     EXPECT_LT(z_min("loose_shear"), 4.0);
     EXPECT_GT(z_min("dense_shear"), 4.0);
+  }
+  {
+    SCOPED_TRACE("the shear stopped: the same shear, then the agitation decays at fixed volume");
+    ASSERT_EQ(loose_status_, 0) << loose_log_;
+    ASSERT_EQ(run_cli("run shear.yaml --out loose_stop --set start.preparation=loose "
+                      "--set stop.duration=0.03 --set stop.cooling_fraction=0.8",
+                      dir_),
+              0)
+        << read(dir_ / "cli.txt");
+    const Summary sheared = Summary::read(dir_ / "loose_shear" / "summary.json");
+    const Summary stopped = Summary::read(dir_ / "loose_stop" / "summary.json");
+    // One rank, the same deck up to the stop: the shear and its metrics are the same run's, and
+    // the stop's rows do not enter them.
+    for (const char* key : {"transient.peak_tau", "transient.residual_tau", "transient.residual_p",
+                            "transient.liquefaction_strain"})
+      EXPECT_EQ(stopped.get(key), sheared.get(key)) << key;
+    const auto h5 = dir_ / "loose_stop" / "result.h5";
+    const auto strain = granflow::core::read_dataset(h5, "/transient/group_0/strain");
+    EXPECT_EQ(strain.size(), granflow::core::read_dataset(dir_ / "loose_shear" / "result.h5",
+                                                          "/transient/group_0/strain")
+                                 .size());
+    // 0.03 s sampled every 0.002 / γ̇ = 1 ms (in whole steps): 30 rows, 1, 2, ... ms after the stop.
+    const auto time = granflow::core::read_dataset(h5, "/transient/group_0/stop/time");
+    ASSERT_EQ(time.size(), 30u);
+    EXPECT_NEAR(time.front(), 1e-3, 1e-5);  // whole time steps of Δt ≈ 3.9 µs
+    const auto T =
+        granflow::core::read_dataset(h5, "/transient/group_0/stop/granular_temperature_mean");
+    // Nothing drives the stopped sample: T falls (inelastic, frictional contacts; measured 0.44 of
+    // the flowing T after 30 ms at 250 spheres, T below 0.8 of it after 2 ms), and it is continuous
+    // at the stop (the streaming flow taken out is the profile T was measured about): the first
+    // sample within 2x.
+    const double flowing = stopped.get("transient.flowing_T");
+    EXPECT_GT(flowing, 0.0);
+    EXPECT_LT(T.back(), T.front());
+    EXPECT_LT(stopped.get("transient.stop_T_over_flowing_T"), 0.9);
+    EXPECT_GT(T.front(), 0.5 * flowing);
+    EXPECT_LT(T.front(), 2.0 * flowing);
+    EXPECT_GT(stopped.get("transient.cooling_time"), 0.0);
+    EXPECT_LT(stopped.get("transient.cooling_time"), 0.03);
   }
   {
     SCOPED_TRACE("a bad preparation reference is one line and exit 2");
@@ -239,6 +299,11 @@ TEST(DemPrepare, LooseAndDensePackingsAndTheTransientsFromThem) {
         granflow::core::exit_bad_input);
     out = read(dir_ / "cli.txt");
     EXPECT_NE(out.find("dem.seed 2"), std::string::npos) << out;
+    // A stop stage only follows a transient from a prepared state.
+    EXPECT_EQ(run_cli("run shear.yaml --out x --set stop.duration=0.1", dir_),
+              granflow::core::exit_bad_input);
+    out = read(dir_ / "cli.txt");
+    EXPECT_NE(out.find("stop.duration"), std::string::npos) << out;
   }
 }
 

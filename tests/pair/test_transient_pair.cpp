@@ -79,6 +79,8 @@ shear_rate: 2
 strain:
   total: 0.3
   sample: 0.002
+stop:
+  duration: 0.01
 )",
                      e_gamma, lambda_c, p_ref, prepared.string());
 }
@@ -140,6 +142,20 @@ TEST(TransientPair, LoosePackingInTheDemAndTheContinuum) {
   EXPECT_EQ(
       core::read_dataset(h5, "/transient_pair/group_0/dem/mean_stress_mean"),
       core::read_dataset(dir / "run" / "dem" / "result.h5", "/transient/group_0/mean_stress_mean"));
+
+  // The shear stopped: both sides' stopped series, the DEM's band the DEM run's own, and the
+  // cooling compared by one function on both (T falls on both: nothing drives either).
+  EXPECT_EQ(core::read_dataset(h5, "/transient_pair/group_0/dem/stop/granular_temperature_mean"),
+            core::read_dataset(dir / "run" / "dem" / "result.h5",
+                               "/transient/group_0/stop/granular_temperature_mean"));
+  const auto stop_time = core::read_dataset(h5, "/transient_pair/group_0/stop/time");
+  const auto stop_T = core::read_dataset(h5, "/transient_pair/group_0/stop/granular_temperature");
+  ASSERT_FALSE(stop_time.empty());
+  EXPECT_NEAR(stop_time.back(), 0.01, 1e-12);
+  EXPECT_LT(stop_T.back(), stop_T.front());
+  EXPECT_DOUBLE_EQ(s.get("transient.dem.flowing_T"), dem.get("transient.flowing_T"));
+  EXPECT_LT(s.get("transient.dem.stop_T_over_flowing_T"), 1.0);
+  EXPECT_LT(s.get("transient.cont.stop_T_over_flowing_T"), 1.0);
 
   // The same pair from the finished DEM run (dem_run): the DEM is not run again and every
   // number is the same (the continuum is deterministic).
