@@ -3,15 +3,26 @@
 #include <mpi.h>
 
 #include <array>
+#include <string>
 
 #include "domain.h"
+#include "dump.h"
 #include "lammps.h"
 #include "library.h"
+#include "output.h"
 
 namespace granflow::dem {
 
 StoppedFlow stop_shear(void* handle, LAMMPS_NS::LAMMPS& lmp, double shear_rate) {
   lammps_command(handle, const_cast<char*>("unfix gf_shear"));
+  // The particle snapshots are the shear's (indexed by strain, their velocities about the
+  // streaming profile): none of the stopped sample.
+  for (const std::string dump : {"gf_snapshots", "gf_snapshots_text"})
+    for (int k = 0; k < lmp.output->ndump; ++k)
+      if (dump == lmp.output->dump[k]->id) {
+        lammps_command(handle, const_cast<char*>(("undump " + dump).c_str()));
+        break;
+      }
   LAMMPS_NS::Domain& domain = *lmp.domain;
   for (int k = 0; k < 6; ++k) domain.h_rate[k] = 0.0;
   for (int k = 0; k < 3; ++k) domain.h_ratelo[k] = 0.0;

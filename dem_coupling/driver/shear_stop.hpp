@@ -1,5 +1,6 @@
 // The stop stage of granflow-dem: after the shear, the shear is stopped at constant volume and
 // the agitation left to decay (docs/transient_dem.md, "The shear stopped").
+//   0. the particle snapshots (output.snapshot_strain) end: they are the shear's;
 //   1. `unfix gf_shear`: the box is held (its tilt and height kept), and the deformation rate of
 //      the domain (h_rate, h_ratelo) is zeroed, so periodic images carry no velocity offset and
 //      fix fluid/le's liquid is at rest;
