@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <span>
 #include <sstream>
 
 #include "analysis/transient_pair/continuum_transient.hpp"
@@ -72,28 +73,47 @@ std::string metric_key(const std::string& side, const std::string& name, const s
 void write_dem_band(core::RunContext& ctx, const std::filesystem::path& dem_h5, std::size_t index,
                     const std::string& group) {
   const std::string from = fmt::format("/transient/group_{}/", index);
+  const auto copy_band = [&](const std::string& part_path) {  // "" or "stop/"
+    for (const auto& row : dem::dem_columns::transient_band)
+      for (const char* part :
+           {dem::dem_columns::band_mean, dem::dem_columns::band_min, dem::dem_columns::band_max}) {
+        const std::string name = part_path + row.column.name + part;
+        ctx.result.write(
+            group + "/dem/" + name, core::read_dataset(dem_h5, from + name), row.column.unit,
+            core::read_string_attribute(dem_h5, from + name, "description") + " (DEM)");
+      }
+  };
   ctx.result.write(group + "/dem/strain", core::read_dataset(dem_h5, from + "strain"), "1",
                    "shear strain of the DEM samples");
-  for (const auto& row : dem::dem_columns::transient_band)
-    for (const char* part :
-         {dem::dem_columns::band_mean, dem::dem_columns::band_min, dem::dem_columns::band_max}) {
-      const std::string name = std::string(row.column.name) + part;
-      ctx.result.write(group + "/dem/" + name, core::read_dataset(dem_h5, from + name),
-                       row.column.unit,
-                       core::read_string_attribute(dem_h5, from + name, "description") + " (DEM)");
-    }
+  copy_band("");
+  // The shear stopped (stop.duration > 0): the DEM's stop band.
   if (!core::dataset_exists(dem_h5, from + "stop/" + core::columns::time.name)) return;
   ctx.result.write(group + "/dem/stop/" + core::columns::time.name,
                    core::read_dataset(dem_h5, from + "stop/" + core::columns::time.name),
                    core::columns::time.unit, "time since the DEM's shear was stopped");
-  for (const auto& row : dem::dem_columns::transient_band)
-    for (const char* part :
-         {dem::dem_columns::band_mean, dem::dem_columns::band_min, dem::dem_columns::band_max}) {
-      const std::string name = "stop/" + std::string(row.column.name) + part;
-      ctx.result.write(group + "/dem/" + name, core::read_dataset(dem_h5, from + name),
-                       row.column.unit,
-                       core::read_string_attribute(dem_h5, from + name, "description") + " (DEM)");
+  copy_band("stop/");
+}
+
+using MetricPair = std::pair<const char*, std::pair<double, double>>;  // name, {DEM, continuum}
+
+// Each metric of both sides in summary.json (transient.dem.NAME with its seed error _err when the
+// DEM run has one; transient.cont{suffix}.NAME) and as attributes of the group (dem_NAME,
+// cont{suffix}_NAME). The DEM's are written once, with the uncalibrated continuum.
+void write_metrics(core::RunContext& ctx, std::span<const MetricPair> metrics,
+                   const DemTransient& dem, const std::string& group, const std::string& g,
+                   const std::string& suffix) {
+  auto& sum = ctx.summary;
+  const std::string cont = "cont" + suffix;
+  for (const auto& [name, values] : metrics) {
+    if (suffix.empty()) {
+      sum.set(metric_key("dem", name, g), values.first);
+      ctx.result.attribute(group, std::string("dem_") + name, values.first);
+      if (const auto e = dem.metric_err.find(name); e != dem.metric_err.end())
+        sum.set(metric_key("dem", std::string(name) + "_err", g), e->second);
     }
+    sum.set(metric_key(cont, name, g), values.second);
+    ctx.result.attribute(group, cont + "_" + name, values.second);
+  }
 }
 
 // The shear stopped (stop.duration > 0): the continuum's stop stage from the end of `rev`, its
@@ -126,22 +146,13 @@ void compare_stop(core::RunContext& ctx, const core::Case& condition, const DemT
       dem.p0, limits.cooling);
   auto& sum = ctx.summary;
   const std::string cont = "cont" + suffix;
-  const std::pair<const char*, std::pair<double, double>> metrics[] = {
+  const MetricPair metrics[] = {
       {"flowing_T", {dem_m.flowing_temperature, cont_m.flowing_temperature}},
       {"cooling_time", {dem_m.cooling_time, cont_m.cooling_time}},
       {"stop_T_over_flowing_T", {dem_m.final_temperature_ratio, cont_m.final_temperature_ratio}},
       {"stop_p_over_p0", {dem_m.final_p_over_p0, cont_m.final_p_over_p0}},
   };
-  for (const auto& [name, values] : metrics) {
-    if (suffix.empty()) {
-      sum.set(metric_key("dem", name, g), values.first);
-      ctx.result.attribute(group, std::string("dem_") + name, values.first);
-      if (const auto e = dem.metric_err.find(name); e != dem.metric_err.end())
-        sum.set(metric_key("dem", std::string(name) + "_err", g), e->second);
-    }
-    sum.set(metric_key(cont, name, g), values.second);
-    ctx.result.attribute(group, cont + "_" + name, values.second);
-  }
+  write_metrics(ctx, metrics, dem, group, g, suffix);
   const bool both = dem_m.cooling_time > 0 && cont_m.cooling_time > 0;
   if (both)
     sum.set(metric_key("rel_err" + suffix, "cooling_time", g),
@@ -204,7 +215,7 @@ bool compare(core::RunContext& ctx, const core::Case& condition, const DemTransi
   auto& sum = ctx.summary;
   const std::string cont = "cont" + suffix;
   const bool liq_dem = dem_m.liquefaction_strain >= 0, liq_cont = cont_m.liquefaction_strain >= 0;
-  const std::pair<const char*, std::pair<double, double>> metrics[] = {
+  const MetricPair metrics[] = {
       {"peak_tau", {dem_m.peak_tau, cont_m.peak_tau}},
       {"peak_strain", {dem_m.peak_strain, cont_m.peak_strain}},
       {"residual_tau", {dem_m.residual_tau, cont_m.residual_tau}},
@@ -212,16 +223,7 @@ bool compare(core::RunContext& ctx, const core::Case& condition, const DemTransi
       {"p_final_over_p0", {dem_m.p_final_over_p0, cont_m.p_final_over_p0}},
       {"liquefied", {liq_dem ? 1.0 : 0.0, liq_cont ? 1.0 : 0.0}},
   };
-  for (const auto& [name, values] : metrics) {
-    if (suffix.empty()) {
-      sum.set(metric_key("dem", name, g), values.first);
-      ctx.result.attribute(group, std::string("dem_") + name, values.first);
-      if (const auto e = dem.metric_err.find(name); e != dem.metric_err.end())
-        sum.set(metric_key("dem", std::string(name) + "_err", g), e->second);
-    }
-    sum.set(metric_key(cont, name, g), values.second);
-    ctx.result.attribute(group, cont + "_" + name, values.second);
-  }
+  write_metrics(ctx, metrics, dem, group, g, suffix);
   sum.set(metric_key("rel_err" + suffix, "peak_tau", g),
           relative_error(cont_m.peak_tau, dem_m.peak_tau));
   // The liquefaction strain is absent on the side that does not liquefy.

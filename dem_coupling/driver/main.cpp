@@ -48,12 +48,13 @@
 #include <cstdlib>
 #include <ctime>
 #include <optional>
-#include <random>
 #include <string>
 #include <vector>
 
 #include "dem_coupling/deck/driver_parameters.hpp"
+#include "dem_coupling/driver/atom_view.hpp"
 #include "dem_coupling/driver/contact_probe.hpp"
+#include "dem_coupling/driver/initial_fluctuations.hpp"
 #include "dem_coupling/driver/prepare_stage.hpp"
 #include "dem_coupling/driver/series_output.hpp"
 #include "dem_coupling/driver/shear_stop.hpp"
@@ -180,51 +181,6 @@ FluidStress fluid_stress(void* handle, const ShearSample& s, int rank) {
   return f;
 }
 
-// SplitMix64 (Steele, Lea & Flood 2014): a well-mixed 64-bit hash, so that the fluctuation of an
-// atom depends only on (seed, atom id), not on which rank holds it.
-std::uint64_t splitmix64(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
-// Adds c_i to every velocity: c_i Gaussian (Box-Muller on mt19937_64 seeded by (seed, id)),
-// shifted so that Σ m_i c_i = 0 and scaled so that Σ |c_i|² / (3 N) = T0 exactly (the number
-// average of shear_sample.hpp). Rotation untouched. Collective. Returns the T0 applied.
-double add_fluctuations(void* handle, double temperature, std::uint64_t seed) {
-  const int nlocal = *static_cast<int*>(lammps_extract_global(handle, "nlocal"));
-  auto** v = static_cast<double**>(lammps_extract_atom(handle, "v"));
-  const auto* mass = static_cast<double*>(lammps_extract_atom(handle, "rmass"));
-  const auto* id = static_cast<int*>(lammps_extract_atom(handle, "id"));
-  std::vector<double> c(3 * std::size_t(std::max(nlocal, 0)));
-  std::array<double, 5> local{}, global{};  // Σ m c (3), Σ m, N
-  for (int i = 0; i < nlocal; ++i) {
-    std::mt19937_64 rng(splitmix64(seed * 0x100000001b3ULL + std::uint64_t(id[i])));
-    auto uniform = [&] { return (double(rng() >> 11) + 0.5) * 0x1.0p-53; };  // (0, 1)
-    for (int k = 0; k < 3; ++k) {
-      // Box-Muller: sqrt(-2 ln u1) cos(2 π u2) is standard normal
-      c[3 * i + k] = std::sqrt(-2.0 * std::log(uniform())) * std::cos(2.0 * M_PI * uniform());
-      local[k] += mass[i] * c[3 * i + k];
-    }
-    local[3] += mass[i];
-    local[4] += 1.0;
-  }
-  MPI_Allreduce(local.data(), global.data(), 5, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
-  double sum_sq_local = 0.0, sum_sq = 0.0;
-  for (int i = 0; i < nlocal; ++i)
-    for (int k = 0; k < 3; ++k) {
-      c[3 * i + k] -= global[k] / global[3];
-      sum_sq_local += c[3 * i + k] * c[3 * i + k];
-    }
-  MPI_Allreduce(&sum_sq_local, &sum_sq, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
-  if (!(sum_sq > 0.0) || !(temperature > 0.0)) return 0.0;
-  const double scale = std::sqrt(3.0 * global[4] * temperature / sum_sq);
-  for (int i = 0; i < nlocal; ++i)
-    for (int k = 0; k < 3; ++k) v[i][k] += scale * c[3 * i + k];
-  return temperature;
-}
-
 // Mean overlap of the touching pairs, <δ> = Σ δ_ij / N_c with δ_ij = r_i + r_j - |x_i - x_j| > 0,
 // over the pair's half neighbour list (a pair with a ghost is listed on both ranks: weight 1/2,
 // as accumulate_contacts). How soft the sample is: δ/d of a few % above jamming (O'Hern et al.
@@ -327,7 +283,7 @@ int main(int argc, char** argv) {
         static_cast<std::uint64_t>(std::llround(deck_variable(handle, "gf_velocity_seed", rank)));
     if (!(t0 >= 0.0) || !std::isfinite(t0))
       usage_error(rank, "deck: gf_initial_temperature must be finite and >= 0");
-    const double applied = add_fluctuations(handle, t0, seed);
+    const double applied = granflow::dem::add_fluctuations(handle, t0, seed);
     if (rank == 0)
       std::printf(
           "granflow-dem: shear starts from the streaming profile + fluctuations of T0 = "
@@ -430,20 +386,14 @@ int main(int argc, char** argv) {
   // stage is the strain at the stop, `strain_end` its step.
   auto sample = [&](double rate, long strain_end) -> ShearSample {
     local.clear();
-    const int nlocal = *static_cast<int*>(lammps_extract_global(handle, "nlocal"));
-    auto** x = static_cast<double**>(lammps_extract_atom(handle, "x"));
-    auto** v = static_cast<double**>(lammps_extract_atom(handle, "v"));
-    const auto* mass = static_cast<double*>(lammps_extract_atom(handle, "rmass"));
-    const auto* radius = static_cast<double*>(lammps_extract_atom(handle, "radius"));
+    const granflow::dem::ParticleView view = granflow::dem::owned_particles(handle);
     const LAMMPS_NS::Domain& domain = *lmp->domain;
     const granflow::dem::ShearFrame frame{rate, domain.boxlo[1], domain.yprd};
-    granflow::dem::ParticleView view{nlocal, nlocal ? x[0] : nullptr, nlocal ? v[0] : nullptr, mass,
-                                     radius};
     granflow::dem::accumulate_particles(view, frame, local);
     if (const LAMMPS_NS::NeighList* list = lmp->force->pair->list) {
       granflow::dem::HalfNeighborList half{list->inum, list->ilist, list->numneigh,
                                            list->firstneigh, NEIGHMASK};
-      granflow::dem::accumulate_contacts(half, nlocal ? x[0] : nullptr, radius, nlocal, local);
+      granflow::dem::accumulate_contacts(half, view.position, view.radius, view.count, local);
     }
     MPI_Allreduce(local.data(), global.data(), local.size(), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
     std::array<double, 6> virial_stress{};
@@ -475,6 +425,17 @@ int main(int argc, char** argv) {
     return s;
   };
 
+  // A LIGGGHTS run command, its wall and CPU time added to the run's; returns when it ended.
+  auto run_timed = [&](char* run_command) {
+    const auto t0 = Clock::now();
+    const double cpu0 = process_cpu_seconds();
+    lammps_command(handle, run_command);
+    liggghts_cpu_seconds += process_cpu_seconds() - cpu0;
+    const auto t1 = Clock::now();
+    liggghts_seconds += std::chrono::duration<double>(t1 - t0).count();
+    return t1;
+  };
+
   bool height_commanded = false;  // fix gf_shear moves the height (from the last servo update)
   long done = 0;                  // shear steps run
   while (done < total_steps) {
@@ -500,12 +461,7 @@ int main(int argc, char** argv) {
         const long n = std::min(sample_every, phase_end - step);
         std::snprintf(command, sizeof command, "run %ld start %ld stop %ld pre %s post no", n,
                       phase_begin, phase_end, step == phase_begin ? "yes" : "no");
-        const auto t0 = Clock::now();
-        const double cpu0 = process_cpu_seconds();
-        lammps_command(handle, command);
-        liggghts_cpu_seconds += process_cpu_seconds() - cpu0;
-        const auto t1 = Clock::now();
-        liggghts_seconds += std::chrono::duration<double>(t1 - t0).count();
+        const auto t1 = run_timed(command);
         const ShearSample s = sample(shear_rate, shear_begin);
         if (rank == 0 && rule) rule->add(s);
         if (measured) {
@@ -572,12 +528,7 @@ int main(int argc, char** argv) {
       const long n = std::min(sample_every, stop_steps - stop_done);
       std::snprintf(command, sizeof command, "run %ld pre %s post no", n,
                     stop_done == 0 ? "yes" : "no");
-      const auto t0 = Clock::now();
-      const double cpu0 = process_cpu_seconds();
-      lammps_command(handle, command);
-      liggghts_cpu_seconds += process_cpu_seconds() - cpu0;
-      const auto t1 = Clock::now();
-      liggghts_seconds += std::chrono::duration<double>(t1 - t0).count();
+      const auto t1 = run_timed(command);
       sample(0.0, stop_begin);
       harness_seconds += std::chrono::duration<double>(Clock::now() - t1).count();
     }

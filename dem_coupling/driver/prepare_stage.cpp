@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "dem_coupling/driver/atom_view.hpp"
 #include "dem_coupling/driver/contact_probe.hpp"
 #include "dem_coupling/extraction/shear_sample.hpp"
 #include "domain.h"
@@ -124,15 +125,9 @@ int run_preparation(void* handle, LAMMPS_NS::LAMMPS& lmp, int rank) {
     step += every;
     // ---- measure: stress, φ, T from the extraction harness with no streaming profile
     local.clear();
-    const int nlocal = *static_cast<int*>(lammps_extract_global(handle, "nlocal"));
-    auto** x = static_cast<double**>(lammps_extract_atom(handle, "x"));
-    auto** v = static_cast<double**>(lammps_extract_atom(handle, "v"));
-    const auto* mass = static_cast<double*>(lammps_extract_atom(handle, "rmass"));
-    const auto* radius = static_cast<double*>(lammps_extract_atom(handle, "radius"));
     const LAMMPS_NS::Domain& domain = *lmp.domain;
     const ShearFrame frame{0.0, domain.boxlo[1], domain.yprd};
-    accumulate_particles({nlocal, nlocal ? x[0] : nullptr, nlocal ? v[0] : nullptr, mass, radius},
-                         frame, local);
+    accumulate_particles(owned_particles(handle), frame, local);
     MPI_Allreduce(local.data(), global.data(), local.size(), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
     std::array<double, 6> virial{};
     for (int k = 0; k < 6; ++k) virial[k] = averaged_virial(handle, k);

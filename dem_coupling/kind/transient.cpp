@@ -251,6 +251,30 @@ void TransientShear::absorb(core::RunContext& ctx, std::size_t n, const std::fil
       m.residual_tau, m.residual_tau_err, m.residual_p, m.p_final_over_p0);
 }
 
+void TransientShear::write_band(core::RunContext& ctx, const std::string& prefix,
+                                const std::vector<const Point*>& members, std::size_t rows,
+                                std::vector<std::vector<double>> Point::*series,
+                                const std::string& note) {
+  for (std::size_t k = 0; k < std::size(dem_columns::transient_band); ++k) {
+    const core::Column& column = dem_columns::transient_band[k].column;
+    std::vector<double> mean(rows), low(rows), high(rows);
+    for (std::size_t i = 0; i < rows; ++i) {
+      double sum = 0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (const Point* m : members) {
+        const double v = (m->*series)[k][i];
+        sum += v, lo = std::min(lo, v), hi = std::max(hi, v);
+      }
+      mean[i] = sum / double(members.size()), low[i] = lo, high[i] = hi;
+    }
+    const std::string name = prefix + column.name;
+    const std::string doc = std::string(column.description) + note;
+    ctx.result.write(name + dem_columns::band_mean, mean, column.unit,
+                     doc + ": mean over the seeds, sample by sample");
+    ctx.result.write(name + dem_columns::band_min, low, column.unit, doc + ": lowest seed");
+    ctx.result.write(name + dem_columns::band_max, high, column.unit, doc + ": highest seed");
+  }
+}
+
 void TransientShear::finish(core::RunContext& ctx, const std::vector<Condition>& swept) {
   if (!enabled_ || points_.empty()) return;
   std::vector<SeedGroup> groups = group_by_seed(swept);
@@ -270,24 +294,7 @@ void TransientShear::finish(core::RunContext& ctx, const std::vector<Condition>&
                                members.front()->strain.begin() + long(rows));
     ctx.result.write(group + "/" + core::columns::strain.name, strain, core::columns::strain.unit,
                      "shear strain of the samples");
-    for (std::size_t k = 0; k < std::size(dem_columns::transient_band); ++k) {
-      const core::Column& column = dem_columns::transient_band[k].column;
-      std::vector<double> mean(rows), low(rows), high(rows);
-      for (std::size_t i = 0; i < rows; ++i) {
-        double sum = 0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
-        for (const Point* m : members) {
-          const double v = m->band[k][i];
-          sum += v, lo = std::min(lo, v), hi = std::max(hi, v);
-        }
-        mean[i] = sum / double(members.size()), low[i] = lo, high[i] = hi;
-      }
-      const std::string name = group + "/" + column.name;
-      const std::string doc = column.description;
-      ctx.result.write(name + dem_columns::band_mean, mean, column.unit,
-                       doc + ": mean over the seeds, sample by sample");
-      ctx.result.write(name + dem_columns::band_min, low, column.unit, doc + ": lowest seed");
-      ctx.result.write(name + dem_columns::band_max, high, column.unit, doc + ": highest seed");
-    }
+    write_band(ctx, group + "/", members, rows, &Point::band, "");
     // The stop: time since the stop and the same bands over the stop's rows.
     std::size_t stop_rows = members.front()->stop_time.size();
     for (const Point* m : members) stop_rows = std::min(stop_rows, m->stop_time.size());
@@ -296,24 +303,7 @@ void TransientShear::finish(core::RunContext& ctx, const std::vector<Condition>&
       ctx.result.write(group + "/stop/" + core::columns::time.name,
                        std::vector<double>(t0.begin(), t0.begin() + long(stop_rows)),
                        core::columns::time.unit, "time since the shear was stopped");
-      for (std::size_t k = 0; k < std::size(dem_columns::transient_band); ++k) {
-        const core::Column& column = dem_columns::transient_band[k].column;
-        std::vector<double> mean(stop_rows), low(stop_rows), high(stop_rows);
-        for (std::size_t i = 0; i < stop_rows; ++i) {
-          double sum = 0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
-          for (const Point* m : members) {
-            const double v = m->stop_band[k][i];
-            sum += v, lo = std::min(lo, v), hi = std::max(hi, v);
-          }
-          mean[i] = sum / double(members.size()), low[i] = lo, high[i] = hi;
-        }
-        const std::string name = group + "/stop/" + column.name;
-        const std::string doc = std::string(column.description) + ", shear stopped";
-        ctx.result.write(name + dem_columns::band_mean, mean, column.unit,
-                         doc + ": mean over the seeds, sample by sample");
-        ctx.result.write(name + dem_columns::band_min, low, column.unit, doc + ": lowest seed");
-        ctx.result.write(name + dem_columns::band_max, high, column.unit, doc + ": highest seed");
-      }
+      write_band(ctx, group + "/stop/", members, stop_rows, &Point::stop_band, ", shear stopped");
       ctx.result.attribute(group + "/stop", "cooling_fraction", cooling_fraction_);
     }
     // Metrics: mean over the seeds and its standard error (between-seed sd / sqrt(N)).

@@ -95,6 +95,12 @@ class TransientShear {
     std::vector<std::vector<double>> stop_band;  // as band, over the stop's rows
     StopMetrics stop;
   };
+  // The seed mean, lowest and highest seed of each dem_columns::transient_band column, row by
+  // row (rows: the fewest any member has), as PREFIX + NAME_{mean,min,max}; `note` is added to
+  // the descriptions.
+  static void write_band(core::RunContext& ctx, const std::string& prefix,
+                         const std::vector<const Point*>& members, std::size_t rows,
+                         std::vector<std::vector<double>> Point::*series, const std::string& note);
   bool enabled_ = false;
   double fraction_ = 0.05, residual_ = 0.2, cooling_fraction_ = 0.1;
   std::map<std::size_t, Point> points_;
