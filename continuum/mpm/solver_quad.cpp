@@ -80,6 +80,17 @@ struct QuadView {
   }
 };
 
+// The located stencils of one phase as QuadRows: the Cartesian grid's cells (Solver::cells_) or
+// the polar grid's quads (Solver::cache_).
+template <class G, class Cells, class Quads>
+auto quad_rows(const G& grid, const Cells& c, const Quads& q) {
+  if constexpr (std::is_same_v<G, CartesianGrid>)
+    return CellView{c.node.data(), c.xi.data(), c.eta.data(),
+                    c.inv_hx,      c.inv_hy,    grid.cells_x() + 1};
+  else
+    return QuadView{q.quad.data()};
+}
+
 // The velocity gradient L = Σ_a v_a ⊗ ∇N_a at one point and, with `extras` (liquid points),
 // tr(D_S), the porosity n there and, with Forchheimer drag, |u_L - u_S|; handed to `store` as
 // store(Lxx, Lxy, Lyx, Lyy, div_s, n_at) (Solver::store_gradient). One body for G2P (USL) and
@@ -151,15 +162,8 @@ void Solver::locate_cells(const PolarGrid& grid, int phase, std::size_t b, std::
 
 template <class G>
 void Solver::map_first_quad(const G& grid, int t) {
-  auto view = [&](int phase) {  // the located stencils of a phase as QuadRows
-    if constexpr (std::is_same_v<G, CartesianGrid>) {
-      const CellCache& c = cells_[phase];
-      return CellView{c.node.data(), c.xi.data(), c.eta.data(),
-                      c.inv_hx,      c.inv_hy,    grid.cells_x() + 1};
-    } else {
-      return QuadView{cache_[phase].quad.data()};
-    }
-  };
+  // the located stencils of a phase as QuadRows
+  auto view = [&](int phase) { return quad_rows(grid, cells_[phase], cache_[phase]); };
   const bool wet = liquid_.size() > 0;
   const int nn = nn_, T = threads_;
   const int fields = wet ? NF : solid_fields;
@@ -229,15 +233,8 @@ void Solver::map_first_quad(const G& grid, int t) {
 // momentum is mapped back to the nodes in the same pass, as update_points_part does.
 template <class G>
 void Solver::update_points_quad(const G& grid, int t, bool remap) {
-  auto view = [&](int phase) {  // the located stencils of a phase as QuadRows
-    if constexpr (std::is_same_v<G, CartesianGrid>) {
-      const CellCache& c = cells_[phase];
-      return CellView{c.node.data(), c.xi.data(), c.eta.data(),
-                      c.inv_hx,      c.inv_hy,    grid.cells_x() + 1};
-    } else {
-      return QuadView{cache_[phase].quad.data()};
-    }
-  };
+  // the located stencils of a phase as QuadRows
+  auto view = [&](int phase) { return quad_rows(grid, cells_[phase], cache_[phase]); };
   const double dt = dt_, flip = flip_fraction(), s = options_.mass_scaling;
   const bool usl = options_.scheme == UpdateScheme::usl;
   const bool wet = liquid_.size() > 0;
@@ -304,15 +301,8 @@ void Solver::update_points_quad(const G& grid, int t, bool remap) {
 // velocity_gradients_part does.
 template <class G>
 void Solver::velocity_gradients_quad(const G& grid, int t, bool liquid_extras) {
-  auto view = [&](int phase) {  // the located stencils of a phase as QuadRows
-    if constexpr (std::is_same_v<G, CartesianGrid>) {
-      const CellCache& c = cells_[phase];
-      return CellView{c.node.data(), c.xi.data(), c.eta.data(),
-                      c.inv_hx,      c.inv_hy,    grid.cells_x() + 1};
-    } else {
-      return QuadView{cache_[phase].quad.data()};
-    }
-  };
+  // the located stencils of a phase as QuadRows
+  auto view = [&](int phase) { return quad_rows(grid, cells_[phase], cache_[phase]); };
   const double* vxs = nodes_.vx_solid.data();
   const double* vys = nodes_.vy_solid.data();
   auto grad = [&](int phase, PointFields& pts, const double* vx, const double* vy, bool extras) {
