@@ -9,6 +9,7 @@
 #pragma once
 
 #include <iterator>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -119,6 +120,12 @@ struct LiquidParameters {
   double maximum_packing = 0.585;  // ν_m of Krieger-Dougherty / Boyer
   PermeabilityKind permeability = PermeabilityKind::seed_eq26;
   double sphericity = 1.0;  // A of seed Eq. 26
+  // g0 in R_diss of Λ (liquid_fluctuation_dissipation): unset = the g0 the caller passes (the
+  // collisional closures'); set = this option at ν (with the collisional jamming fraction for
+  // the options with a pole), e.g. Carnahan-Starling, the pair distribution of the hard-sphere
+  // structure rather than a jamming pole fitted to stresses.
+  std::optional<RadialDistributionKind> dissipation_radial_distribution;
+  double dissipation_jamming_fraction = 0.64;
 };
 
 // ---- collisional coefficients (docs/model/closures.md)

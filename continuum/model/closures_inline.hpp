@@ -239,9 +239,16 @@ inline double dissipation_resistance(double nu, double g0) {
   return dissipation_resistance_koch_sangani(nu, g0);
 }
 
-// Λ = 54 ν η0 R_diss T / d².
+// Λ = 54 ν η0 R_diss T / d², R_diss with `g0`, or with the liquid's own
+// dissipation_radial_distribution at ν when it has one.
 inline double liquid_fluctuation_dissipation(const LiquidParameters& l, double diameter, double nu,
                                              double g0, double T) {
+  if (l.dissipation_radial_distribution) {
+    CollisionalParameters structure;
+    structure.radial_distribution = *l.dissipation_radial_distribution;
+    structure.jamming_fraction = l.dissipation_jamming_fraction;
+    g0 = radial_distribution(structure, nu);
+  }
   return 54.0 * nu * l.viscosity * dissipation_resistance(nu, g0) * T / (diameter * diameter);
 }
 

@@ -98,6 +98,14 @@ core::Field liquid_section() {
       .at_most(1);
   l.boolean("fluctuation_dissipation", "Λ: fluctuation energy given to the liquid")
       .default_value("true");
+  std::vector<std::string> dissipation_g0 = {"collisional"};
+  for (const auto& name : model::radial_distribution_names()) dissipation_g0.push_back(name);
+  l.choice("dissipation_radial_distribution", dissipation_g0,
+           "g0 in the resistance R_diss of Λ (its lubrication term ν g0 ln(1/ε_m)): collisional = "
+           "collisional.radial_distribution; or a g0 option of its own at ν (with "
+           "collisional.jamming_fraction for those with a pole), e.g. carnahan_starling, the "
+           "hard-sphere structure's, when the collisional g0's pole is a fit to stresses")
+      .default_value("collisional");
   l.number("viscous_contact", "",
            "b_v: the viscous scale of the contacts' dense-flow stress, p_IC = [ρ_p (a_c d γ̇)² + "
            "b_v η0 γ̇] (ν_c - ν)^-m (collisional.inertial_contact_*; the contact part of the "
@@ -313,6 +321,11 @@ MultiRegimeSettings read_multi_regime_settings(const core::Case& c) {
   liq.maximum_packing = c.number("liquid.maximum_packing");
   liq.permeability = model::parse_permeability(c.string("liquid.permeability"));
   liq.sphericity = c.number("liquid.sphericity");
+  if (const std::string g0 = c.string("liquid.dissipation_radial_distribution");
+      g0 != "collisional") {
+    liq.dissipation_radial_distribution = model::parse_radial_distribution(g0);
+    liq.dissipation_jamming_fraction = c.number("collisional.jamming_fraction");
+  }
   if (c.schema().child("force_chains") != nullptr) {
     s.force_chains = c.boolean("force_chains.enabled");
     if (s.force_chains) s.force_chain_parameters = read_force_chain_parameters(c);
