@@ -94,7 +94,10 @@ class CriticalStateLadeDuncan {
   }
   // The same from p, the deviator s and its cos 3θ (lode_cos3theta(s)) when the caller has them.
   double normalized_stress_ratio(double p, const Tensor& s, double cos3theta) const {
-    const double q = std::sqrt(1.5 * double_contraction(s, s));
+    return normalized_stress_ratio_q(p, std::sqrt(1.5 * double_contraction(s, s)), cos3theta);
+  }
+  // The same from p, q = sqrt(3/2 s:s) and cos 3θ.
+  double normalized_stress_ratio_q(double p, double q, double cos3theta) const {
     const double cap = 3.0 * m_c_;
     if (!(q > 0.0)) return 0.0;
     if (!(p > 0.0)) return cap;
