@@ -184,15 +184,16 @@ double ForceChainModel::correct_drift(Point& y) const {
   return f0;
 }
 
-double ForceChainModel::elastic_fraction(const Point& y, const Tensor& strain, double f0,
-                                         double f1) const {
+double ForceChainModel::elastic_fraction(const Point& y, const Tensor& strain, double f0, double f1,
+                                         const Tensor* stress_gradient) const {
   auto f_at = [&](double alpha) {
     return safe_yield(elastic_.finite_update(y.stress, alpha * strain), y.chi, y.r_c);
   };
   const double ftol = par_.yield_tolerance;
   double lo = 0.0, f_lo = f0, hi = 1.0, f_hi = f1;
   if (f0 > -ftol) {  // starting on the locus: loading or elastic unloading first?
-    const Tensor n = yield_.stress_gradient(y.stress, y.chi, y.r_c);
+    const Tensor n =
+        stress_gradient ? *stress_gradient : yield_.stress_gradient(y.stress, y.chi, y.r_c);
     const Tensor elastic_stress = elastic_.apply(mean_stress(y.stress), strain);
     if (double_contraction(n, elastic_stress) >= 0.0) return 0.0;
     constexpr int kScan = 16;  // unloading then reloading inside the increment
@@ -249,10 +250,19 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, double volume_
   const double f0 = safe_yield(y.stress, y.chi, y.r_c);
   // from the stress-free state straight into tension: all contact loss
   if (y.stress.norm() <= kApexRatio * y.r_c && !admissible(trial, y.chi, y.r_c)) return 1.0;
-  const double alpha = elastic_fraction(y, strain, f0, f_trial);
+  // On the locus the loading test needs ∂f/∂σ at y, and the first sub-step the rates at y when
+  // it loads (α = 0): both from one plastic_rates(y).
+  PlasticRates rates_y;
+  bool rates_at_y = false;
+  if (f0 > -par_.yield_tolerance && std::abs(f0) < kYieldClip) {
+    rates_y = plastic_rates(y);
+    rates_at_y = true;
+  }
+  const double alpha = elastic_fraction(y, strain, f0, f_trial, rates_at_y ? &rates_y.n : nullptr);
   if (alpha > 0.0) {
     y.stress = elastic_.finite_update(y.stress, alpha * strain);
     y.void_ratio = (1.0 + y.void_ratio) * std::exp(-alpha * strain.trace()) - 1.0;
+    rates_at_y = false;
   }
   const Tensor rest = (1.0 - alpha) * strain;
   const bool fixed = par_.fixed_substeps > 0;
@@ -274,8 +284,6 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, double volume_
     return out;
   };
   const Increment zero{Tensor::Zero(), Tensor::Zero(), Tensor::Zero(), 0.0, 0.0, 0.0};
-  PlasticRates rates_y;
-  bool rates_at_y = false;
   while (t < 1.0 - 1e-12) {
     if (++attempts == par_.max_substeps) {
       info.substep_budget_exhausted = true;

@@ -100,8 +100,10 @@ class ForceChainModel {
   // Euler increment from y over `strain` with the plastic rates r = plastic_rates(y).
   Increment increment(const Point& y, const Tensor& strain, const PlasticRates& r) const;
   double correct_drift(Point& y) const;  // returns the final f
-  // f0, f1: f at the start and at the end of the elastic trial (both known to the caller).
-  double elastic_fraction(const Point& y, const Tensor& strain, double f0, double f1) const;
+  // f0, f1: f at the start and at the end of the elastic trial (both known to the caller);
+  // stress_gradient: ∂f/∂σ at y if the caller has it, else nullptr.
+  double elastic_fraction(const Point& y, const Tensor& strain, double f0, double f1,
+                          const Tensor* stress_gradient) const;
   // Integrates `strain` from y; returns the fraction of `strain` left when the stress path hits
   // the stress-free apex (0 when the whole increment was integrated).
   // volume_factor = exp(-tr strain).
