@@ -101,10 +101,10 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
   double max_p = 0.0;
   long clamped = 0;
   if (nonlocal_) r_c_start_.assign(r_c_.begin(), r_c_.end());
-  // Static contiguous halves: on 2 threads the rheometer's first 1000 steps took 2.09 ms per step
-  // against 2.28 with schedule(dynamic, 64) and 2.19 with (dynamic, 384) (1 thread: 3.6-3.8 ms;
-  // docs/performance.md#rheometer_bench). The plastic points lie in rings, which every θ-half
-  // of the annulus holds alike.
+    // Static contiguous halves: on 2 threads the rheometer's first 1000 steps took 2.09 ms per step
+    // against 2.28 with schedule(dynamic, 64) and 2.19 with (dynamic, 384) (1 thread: 3.6-3.8 ms;
+    // docs/performance.md#rheometer_bench). The plastic points lie in rings, which every θ-half
+    // of the annulus holds alike.
 #pragma omp parallel for schedule(static) num_threads(v.threads) if (v.threads > 1) \
     reduction(max : bad, max_p) reduction(+ : clamped)
   for (long p = b; p < e; ++p) {
@@ -116,11 +116,16 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
     // here for the guard of the closures' domain: a point packed beyond ν_lim (a fluidized
     // skeleton clumping between MPM points) is evaluated at ν_lim; counted and reported
     // (docs/rheometer.md).
+    // The force chains' void-ratio factor exp(-tr ε̇ dt) = ν_start/ν_end is the inverse of ν's
+    // (a division for the exp of ForceChainModel::update).
     double nu_start = 1.0 - v.porosity[p];
-    const double nu_end = nu_start * std::exp(-(Dxx + Dyy) * dt);
+    const double growth = std::exp(-(Dxx + Dyy) * dt);
+    const double nu_end = nu_start * growth;
+    double volume_factor = 1.0 / growth;
     st.solid_fraction = nu_end;
     if (nu_end > solid_fraction_limit_) {
-      nu_start = solid_fraction_limit_ * std::exp((Dxx + Dyy) * dt);
+      volume_factor = std::exp((Dxx + Dyy) * dt);
+      nu_start = solid_fraction_limit_ * volume_factor;
       st.solid_fraction = solid_fraction_limit_;
       ++clamped;
     }
@@ -137,7 +142,7 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
     strain_rate << -Dxx, -Dxy, 0, -Dxy, -Dyy, 0, 0, 0, 0;
     std::optional<continuum::StressParts> result;  // (no copy of the parts)
     try {
-      result.emplace(point_.advance_mass_balanced(st, strain_rate, dt));
+      result.emplace(point_.advance_mass_balanced(st, strain_rate, dt, volume_factor));
     } catch (const std::exception&) {
       bad = std::max(bad, p);
       continue;

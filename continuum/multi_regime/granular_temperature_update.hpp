@@ -51,19 +51,31 @@ inline double advance_sqrt_temperature(double s0, const RiccatiCoefficients& k, 
   s0 = std::max(s0, 0.0);
   if (k.b > 0) {
     // roots s+ >= 0 >= s- (their product is -a/b <= 0)
+    // s± as in steady_sqrt_temperature, from one square root: with w = c + disc (c >= 0),
+    // s+ = 2a/w and s- = -w/(2b); with w = disc - c (c < 0), s+ = w/(2b) and s- = -2a/w
     const double disc = std::sqrt(k.c * k.c + 4 * k.a * k.b);
-    const double s_plus = steady_sqrt_temperature(k);
-    const double s_minus = (k.c >= 0) ? -(k.c + disc) / (2 * k.b) : -2 * k.a / (-k.c + disc);
+    double s_plus, s_minus;
+    if (k.c >= 0) {
+      const double w = k.c + disc;
+      s_plus = w > 0 ? 2 * k.a / w : 0.0;
+      s_minus = -w / (2 * k.b);
+    } else {
+      const double w = disc - k.c;
+      s_plus = w / (2 * k.b);
+      s_minus = -2 * k.a / w;
+    }
     const double rate = k.b * (s_plus - s_minus);  // = disc
     if (rate <= 0) {
       // double root s+ = s- = 0 (a = 0, c = 0): ds/dt = -b s²
       return s0 / (1 + k.b * s0 * dt);
     }
-    // (s - s+)/(s - s-) = (s0 - s+)/(s0 - s-) exp(-rate dt)
-    const double decay = std::exp(-rate * dt);
-    const double ratio = (s0 - s_plus) / (s0 - s_minus) * decay;  // s0 - s- > 0 unless both 0
-    if (!std::isfinite(ratio)) return s_plus;
-    const double s = (s_plus - ratio * s_minus) / (1 - ratio);
+    // (s - s+)/(s - s-) = ratio = u/v, u = (s0 - s+) exp(-rate dt), v = s0 - s- (> 0 unless
+    // s0 = s- = 0: then s = s+), so s = (s+ - ratio s-)/(1 - ratio) = (s+ v - u s-)/(v - u)
+    // with v - u > 0 (s0 - s+ < v, exp <= 1): one division
+    const double v = s0 - s_minus;
+    if (!(v > 0) || !std::isfinite(v)) return s_plus;
+    const double u = (s0 - s_plus) * std::exp(-rate * dt);
+    const double s = (s_plus * v - u * s_minus) / (v - u);
     return std::max(s, 0.0);
   }
   if (k.c != 0) {

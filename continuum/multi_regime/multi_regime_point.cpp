@@ -42,13 +42,14 @@ StressParts MultiRegimePoint::advance(PointState& state, const Eigen::Matrix3d& 
 }
 
 StressParts MultiRegimePoint::advance_mass_balanced(PointState& state,
-                                                    const Eigen::Matrix3d& strain_rate,
-                                                    double dt) const {
+                                                    const Eigen::Matrix3d& strain_rate, double dt,
+                                                    double volume_factor) const {
   const double T_start = state.granular_temperature;
   // 2. force chains (rate independent: the increment is ε̇ dt)
   model::force_chains::UpdateInfo info;
   if (force_chain_model_) {
-    info = force_chain_model_->update(state.force_chains, strain_rate * dt, dt, T_start);
+    info = force_chain_model_->update(state.force_chains, strain_rate * dt, dt, T_start,
+                                      volume_factor);
   }
   state.force_chains.void_ratio = 1.0 / state.solid_fraction - 1.0;
   // 3.-4. T over dt at the new ν, then the rate-dependent parts
@@ -104,9 +105,8 @@ model::CollisionalCoefficients MultiRegimePoint::coefficients(double nu) const {
 
 double MultiRegimePoint::liquid_dissipation_per_temperature(double nu, double g0) const {
   if (!settings_.fluctuation_dissipation) return 0.0;
-  return model::liquid_fluctuation_dissipation(settings_.liquid_parameters,
-                                               settings_.collisional_parameters.diameter, nu, g0,
-                                               1.0);
+  return model::liquid_fluctuation_dissipation(
+      settings_.liquid_parameters, settings_.collisional_parameters.diameter, nu, g0, 1.0);
 }
 
 RiccatiCoefficients MultiRegimePoint::temperature_equation(const PointState& state,
@@ -130,12 +130,13 @@ RiccatiCoefficients MultiRegimePoint::riccati(double nu, double deviator_norm2, 
   // Coefficients of ds/dt (granular_temperature_update.hpp), divided through by (3/2) ρ_p ν and 2s.
   const auto& p = settings_.collisional_parameters;
   RiccatiCoefficients k;
-  k.a = 2.0 * p.diameter * c.f2 * deviator_norm2 / (3.0 * nu);
-  k.b = c.f3 / (3.0 * nu * correlation_length);
-  k.c = -c.f1 * trace / (3.0 * nu);  // compaction (tr ε̇ > 0) heats
+  const double inv_3nu = 1.0 / (3.0 * nu);  // (one division for the three coefficients)
+  k.a = 2.0 * p.diameter * c.f2 * deviator_norm2 * inv_3nu;
+  k.b = c.f3 * inv_3nu / correlation_length;
+  k.c = -c.f1 * trace * inv_3nu;  // compaction (tr ε̇ > 0) heats
   if (settings_.fluctuation_dissipation) {
     // Λ = 54 ν η0 R_diss T / d² -> c += 54 ν η0 R_diss / (3 ν ρ_p d²) ... written via Λ/T
-    k.c += lambda_over_T / (3.0 * nu * p.particle_density);
+    k.c += lambda_over_T * inv_3nu / p.particle_density;
   }
   return k;
 }

@@ -111,8 +111,9 @@ class MultiRegimePoint {
   StressParts advance(PointState& state, const Eigen::Matrix3d& strain_rate, double dt) const;
   // advance() from its step 2: the caller has done the mass balance, state.solid_fraction is the
   // ν at the end of the step (the MPM material, which needs that ν first for its guard).
+  // volume_factor: exp(-tr ε̇ dt) if the caller has it (> 0), else computed (force-chain update).
   StressParts advance_mass_balanced(PointState& state, const Eigen::Matrix3d& strain_rate,
-                                    double dt) const;
+                                    double dt, double volume_factor = 0.0) const;
 
   // Isotropic initial state: e, effective pressure p' (σ_FC = p' I), ocr = r_c/(√3 p') >= 1, T.
   PointState initial_state(double void_ratio, double effective_pressure, double ocr,
@@ -154,7 +155,7 @@ class MultiRegimePoint {
   double liquid_dissipation_per_temperature(double nu, double g0) const;
 
   MultiRegimeSettings settings_;
-  double effective_restitution_ = 0.0;  // ε of the collisional parameters (a constant)
+  double effective_restitution_ = 0.0;      // ε of the collisional parameters (a constant)
   double inertial_contact_friction_ = 0.0;  // μ_IC
   std::optional<model::force_chains::ForceChainModel> force_chain_model_;
 };

@@ -29,7 +29,8 @@ class CriticalStateLadeDuncan {
         xi_c_(p.xi_c),
         p_atm_(p.atmospheric_pressure),
         e_min_(p.e_min),
-        e_max_(p.e_max) {
+        e_max_(p.e_max),
+        target_(27.0 / k_ld_) {
     // the table of stress_ratio(): roots and their slopes times the interval width 2/kIntervals
     for (int i = 0; i <= kIntervals; ++i) {
       const double c = -1.0 + 2.0 * i / kIntervals;
@@ -56,8 +57,9 @@ class CriticalStateLadeDuncan {
     const double t = u - i, w = 1.0 - t;
     const double eta = (1.0 + 2.0 * t) * w * w * root_[i] + t * w * w * slope_[i] +
                        t * t * (3.0 - 2.0 * t) * root_[i + 1] - t * t * w * slope_[i + 1];
-    const double h = 1.0 - eta * eta / 3.0 + 2.0 / 27.0 * c * eta * eta * eta - 27.0 / k_ld_;
-    const double dh = -2.0 * eta / 3.0 + 2.0 / 9.0 * c * eta * eta;
+    // (η²/3 and 27/k_LD as products: no division but the Newton step's)
+    const double h = 1.0 - eta * eta * (1.0 / 3.0) + 2.0 / 27.0 * c * eta * eta * eta - target_;
+    const double dh = -2.0 / 3.0 * eta + 2.0 / 9.0 * c * eta * eta;
     if (dh < 0.0) {
       const double next = eta - h / dh;
       if (std::abs(next - eta) <= 1e-7 * eta) return next;
@@ -94,7 +96,10 @@ class CriticalStateLadeDuncan {
   }
   // The same from p, the deviator s and its cos 3θ (lode_cos3theta(s)) when the caller has them.
   double normalized_stress_ratio(double p, const Tensor& s, double cos3theta) const {
-    const double q = std::sqrt(1.5 * double_contraction(s, s));
+    return normalized_stress_ratio_q(p, std::sqrt(1.5 * double_contraction(s, s)), cos3theta);
+  }
+  // The same from p, q = sqrt(3/2 s:s) and cos 3θ.
+  double normalized_stress_ratio_q(double p, double q, double cos3theta) const {
     const double cap = 3.0 * m_c_;
     if (!(q > 0.0)) return 0.0;
     if (!(p > 0.0)) return cap;
@@ -112,6 +117,7 @@ class CriticalStateLadeDuncan {
  private:
   static constexpr int kIntervals = 128;
   double m_c_, k_ld_, e_gamma_, lambda_c_, xi_c_, p_atm_, e_min_, e_max_;
+  double target_;  // 27/k_LD
   std::array<double, kIntervals + 1> root_{}, slope_{};
 };
 

@@ -36,6 +36,11 @@ class DilatancyStateDependent {
     return normalized_ratio > 1e-12 ? a_v / normalized_ratio : 1e12 * a_v;
   }
 
+  // a_v = d_0 (M_d(ψ) - η̃): D = a_v/η̃, and the isotropic part of m before normalisation is a_v I/3.
+  double volumetric_coefficient(double normalized_ratio, double state_parameter) const {
+    return d_0_ * (dilatancy_ratio(state_parameter) - normalized_ratio);
+  }
+
   // Unit flow direction m given the yield gradient and the state.
   Tensor direction(const Tensor& yield_gradient, double normalized_ratio,
                    double state_parameter) const {

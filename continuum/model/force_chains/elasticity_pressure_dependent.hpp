@@ -34,7 +34,10 @@ class PressureDependentElasticity {
 
   // Tangent stiffness applied to a strain-like tensor at mean stress p.
   Tensor apply(double p, const Tensor& strain) const {
-    const double k = bulk_modulus(p);
+    return apply_with_modulus(bulk_modulus(p), strain);
+  }
+  // The same with K = bulk_modulus(p) known to the caller.
+  Tensor apply_with_modulus(double k, const Tensor& strain) const {
     const double tr = strain.trace();
     return 2.0 * shear_to_bulk_ * k * (strain - tr / 3.0 * Tensor::Identity()) +
            k * tr * Tensor::Identity();

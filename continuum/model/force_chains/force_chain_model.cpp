@@ -11,6 +11,9 @@ namespace granflow::model::force_chains {
 
 namespace {
 constexpr double kInvSqrt3 = 0.57735026918962576;
+constexpr double kThird = 1.0 / 3.0;
+constexpr double kSqrtThreeHalves = 1.2247448713915890;  // sqrt(3/2)
+constexpr double kSqrtTwoThirds = 0.81649658092772603;   // sqrt(2/3)
 // f is clipped to ±kYieldClip for the root searches; it is dimensionless and O(1..10) on and
 // near the locus, so the clip only acts at the stress-free origin (-) and in tension (+).
 constexpr double kYieldClip = 1.0e3;
@@ -28,7 +31,8 @@ ForceChainModel::ForceChainModel(ForceChainParameters parameters)
       dilatancy_(par_),
       constant_theta_hat_(par_.theta_hat_c == par_.theta_hat_e),
       cos_theta_hat_(std::cos(par_.theta_hat_e)),
-      sin_theta_hat_(std::sin(par_.theta_hat_e)) {}
+      sin_theta_hat_(std::sin(par_.theta_hat_e)),
+      inv_b_p_(1.0 / par_.b_p) {}
 
 double ForceChainModel::deviatoric_hardening(double psi) const {
   return -(psi > 0.0 ? par_.xi_psi : par_.xi_psi_dense) * psi;
@@ -78,22 +82,40 @@ Tensor ForceChainModel::flow_direction(const ForceChainState& state) const {
 }
 
 ForceChainModel::PlasticRates ForceChainModel::plastic_rates(const Point& y) const {
-  const YieldGradients g = yield_.gradients(y.stress, y.chi, y.r_c);
-  const double p = mean_stress(y.stress);
-  const Tensor s = deviator(y.stress);
-  // cos 3θ once for the Lode-normalised ratio and the target axis below
-  const double c3 = lode_cos3theta(s);
-  const double normalized_ratio = critical_.normalized_stress_ratio(p, s, c3);
+  const YieldGradients g = yield_.gradients_only(y.stress, y.chi, y.r_c);
+  const double p = kThird * y.stress.trace();
+  const Tensor s = y.stress - p * Tensor::Identity();
+  // invariants of s once: s:s, q = sqrt(3/2 s:s), |s| = sqrt(2/3) q, and cos 3θ =
+  // (3√3/2) J3/J2^{3/2} = (9/2) J3/(J2 q) with J2 = s:s/2 (stress_invariants.hpp)
+  const double ss = double_contraction(s, s);
+  const double q = std::sqrt(1.5 * ss);
+  const double c3 = ss > 0.0 ? std::clamp(4.5 * determinant(s) / (0.5 * ss * q), -1.0, 1.0) : 1.0;
+  const double normalized_ratio = critical_.normalized_stress_ratio_q(p, q, c3);
   const double psi = critical_.state_parameter(y.void_ratio, p);
   PlasticRates r;
-  r.value = g.value;
   r.n = g.d_stress;
-  r.m = dilatancy_.direction(g.d_stress, normalized_ratio, psi);
+  // m = (α I + β n_dev)/|m|, α = d_0 (M_d - η̃)/3, β |n_dev| = η̃ sqrt(3/2) (dilatancy header):
+  // n_dev is traceless, so |m|² = 3α² + (3/2) η̃², tr m = 3α/|m| and ε_q(m) = η̃/|m|
+  const Tensor n_dev = g.d_stress - (kThird * g.d_stress.trace()) * Tensor::Identity();
+  const double norm_dev = n_dev.norm();
+  const double alpha = kThird * dilatancy_.volumetric_coefficient(normalized_ratio, psi);
+  const double beta_norm = norm_dev > 0.0 ? normalized_ratio * kSqrtThreeHalves : 0.0;  // β|n_dev|
+  const double m_norm = std::sqrt(3.0 * alpha * alpha + beta_norm * beta_norm);
+  double m_trace = std::sqrt(3.0), m_shear = 0.0;  // tr m, ε_q(m); m = I/√3 if m = 0
+  if (m_norm > 0.0) {
+    const double inv_m = 1.0 / m_norm;
+    r.m = (alpha * inv_m) * Tensor::Identity();
+    if (norm_dev > 0.0) r.m += (beta_norm * inv_m / norm_dev) * n_dev;
+    m_trace = 3.0 * alpha * inv_m;
+    m_shear = kSqrtTwoThirds * beta_norm * inv_m;  // sqrt(2/3) |dev m|
+  } else {
+    r.m = kInvSqrt3 * Tensor::Identity();
+  }
   // isotropic hardening: dr_c/dλ = (r_c/b_p)(m_v + ξ(ψ) m_q)
   const double xi = deviatoric_hardening(psi);
-  r.size_rate = y.r_c / par_.b_p * (r.m.trace() + xi * deviatoric_strain(r.m));
+  r.size_rate = y.r_c * inv_b_p_ * (m_trace + xi * m_shear);
   // rotational hardening: dχ/dλ = c_p (χ̂ - χ) projected on the tangent of |χ| = 1
-  const double s_norm = s.norm();
+  const double s_norm = kSqrtTwoThirds * q;
   Tensor chi_target = kInvSqrt3 * Tensor::Identity();
   if (s_norm > 1e-12 * std::abs(p) && s_norm > 0.0) {
     // θ̂ = θ̂_e + (θ̂_c - θ̂_e)(1 + cos 3θ)/2; constant (cos, sin from the constructor) when
@@ -110,7 +132,8 @@ ForceChainModel::PlasticRates ForceChainModel::plastic_rates(const Point& y) con
   r.chi_rate = par_.c_p * (chi_target - y.chi);
   r.chi_rate -= double_contraction(r.chi_rate, y.chi) * y.chi;
   const double hardening = -(g.d_size * r.size_rate + double_contraction(g.d_axis, r.chi_rate));
-  r.stiffness_m = elastic_.apply(p, r.m);
+  r.bulk_modulus = elastic_.bulk_modulus(p);
+  r.stiffness_m = elastic_.apply_with_modulus(r.bulk_modulus, r.m);
   const double n_d_m = double_contraction(r.n, r.stiffness_m);
   // Softening beyond the elastic stiffness (n:D:m + H <= 0) has no strain-driven solution; the
   // denominator is kept >= 1% of n:D:m (documented as a limiter in docs/model/force_chains.md).
@@ -120,19 +143,10 @@ ForceChainModel::PlasticRates ForceChainModel::plastic_rates(const Point& y) con
 }
 
 ForceChainModel::Increment ForceChainModel::increment(const Point& y, const Tensor& strain,
-                                                      bool plastic) const {
+                                                      const PlasticRates& r) const {
   Increment inc;
-  const Tensor elastic_stress = elastic_.apply(mean_stress(y.stress), strain);
   inc.void_ratio = (1.0 + y.void_ratio) * std::expm1(-strain.trace());
-  if (!plastic) {
-    inc.stress = elastic_stress;
-    inc.chi.setZero();
-    inc.plastic_strain.setZero();
-    inc.r_c = 0.0;
-    inc.plastic_multiplier = 0.0;
-    return inc;
-  }
-  const PlasticRates r = plastic_rates(y);
+  const Tensor elastic_stress = elastic_.apply_with_modulus(r.bulk_modulus, strain);
   const double dlambda = std::max(double_contraction(r.n, elastic_stress) / r.denominator, 0.0);
   inc.stress = elastic_stress - dlambda * r.stiffness_m;
   inc.chi = dlambda * r.chi_rate;
@@ -170,15 +184,16 @@ double ForceChainModel::correct_drift(Point& y) const {
   return f0;
 }
 
-double ForceChainModel::elastic_fraction(const Point& y, const Tensor& strain, double f0,
-                                         double f1) const {
+double ForceChainModel::elastic_fraction(const Point& y, const Tensor& strain, double f0, double f1,
+                                         const Tensor* stress_gradient) const {
   auto f_at = [&](double alpha) {
     return safe_yield(elastic_.finite_update(y.stress, alpha * strain), y.chi, y.r_c);
   };
   const double ftol = par_.yield_tolerance;
   double lo = 0.0, f_lo = f0, hi = 1.0, f_hi = f1;
   if (f0 > -ftol) {  // starting on the locus: loading or elastic unloading first?
-    const Tensor n = yield_.stress_gradient(y.stress, y.chi, y.r_c);
+    const Tensor n =
+        stress_gradient ? *stress_gradient : yield_.stress_gradient(y.stress, y.chi, y.r_c);
     const Tensor elastic_stress = elastic_.apply(mean_stress(y.stress), strain);
     if (double_contraction(n, elastic_stress) >= 0.0) return 0.0;
     constexpr int kScan = 16;  // unloading then reloading inside the increment
@@ -222,22 +237,32 @@ double ForceChainModel::elastic_fraction(const Point& y, const Tensor& strain, d
   return alpha;
 }
 
-double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& info) const {
+double ForceChainModel::integrate(Point& y, const Tensor& strain, double volume_factor,
+                                  UpdateInfo& info) const {
   const Tensor trial = elastic_.finite_update(y.stress, strain);
   const double f_trial = safe_yield(trial, y.chi, y.r_c);
   if (f_trial <= par_.yield_tolerance) {
     y.stress = trial;
-    y.void_ratio = (1.0 + y.void_ratio) * std::exp(-strain.trace()) - 1.0;
+    y.void_ratio = (1.0 + y.void_ratio) * volume_factor - 1.0;
     info.yield_value = f_trial;
     return 0.0;
   }
   const double f0 = safe_yield(y.stress, y.chi, y.r_c);
   // from the stress-free state straight into tension: all contact loss
   if (y.stress.norm() <= kApexRatio * y.r_c && !admissible(trial, y.chi, y.r_c)) return 1.0;
-  const double alpha = elastic_fraction(y, strain, f0, f_trial);
+  // On the locus the loading test needs ∂f/∂σ at y, and the first sub-step the rates at y when
+  // it loads (α = 0): both from one plastic_rates(y).
+  PlasticRates rates_y;
+  bool rates_at_y = false;
+  if (f0 > -par_.yield_tolerance && std::abs(f0) < kYieldClip) {
+    rates_y = plastic_rates(y);
+    rates_at_y = true;
+  }
+  const double alpha = elastic_fraction(y, strain, f0, f_trial, rates_at_y ? &rates_y.n : nullptr);
   if (alpha > 0.0) {
     y.stress = elastic_.finite_update(y.stress, alpha * strain);
     y.void_ratio = (1.0 + y.void_ratio) * std::exp(-alpha * strain.trace()) - 1.0;
+    rates_at_y = false;
   }
   const Tensor rest = (1.0 - alpha) * strain;
   const bool fixed = par_.fixed_substeps > 0;
@@ -267,14 +292,19 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& in
     }
     const bool last_chance = fixed || attempts >= par_.max_substeps || dt < 1e-9;
     const Tensor sub = dt * rest;
-    const Increment k1 = increment(y, sub, true);
+    // the rates at y are the same for every attempt from y (rejected sub-steps retry from it)
+    if (!rates_at_y) {
+      rates_y = plastic_rates(y);
+      rates_at_y = true;
+    }
+    const Increment k1 = increment(y, sub, rates_y);
     const Point y1 = add(y, k1, zero, 1.0);
     Point next = y1;
     double error = 0.0;
     // r_c <= 0 inside the pair means the step overshot the collapse of the locus
     bool apex = at_apex(y1), overshoot = !(y1.r_c > 0.0);
     if (!apex && !overshoot) {
-      const Increment k2 = increment(y1, sub, true);
+      const Increment k2 = increment(y1, sub, plastic_rates(y1));
       next = add(y, k1, k2, 0.5);
       apex = at_apex(next);
       overshoot = !(next.r_c > 0.0);
@@ -306,6 +336,7 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, UpdateInfo& in
     }
     y = next;
     y.chi /= y.chi.norm();
+    rates_at_y = false;
     t += dt;
     ++info.substeps;
     info.plastic = true;
@@ -335,17 +366,19 @@ void ForceChainModel::apex_flow(Point& y, const Tensor& strain) const {
 }
 
 UpdateInfo ForceChainModel::update(ForceChainState& state, const Eigen::Matrix3d& strain_increment,
-                                   double /*dt*/, double granular_temperature) const {
+                                   double /*dt*/, double granular_temperature,
+                                   double volume_factor) const {
   if (!strain_increment.allFinite())
     throw std::invalid_argument("force_chains: non-finite strain increment");
-  // 1 + e_new = (1 + e) exp(-Δε_v) must stay above 1 (e >= 0: no grain interpenetration)
-  if (strain_increment.trace() >= std::log1p(std::max(state.void_ratio, 0.0)))
+  // 1 + e_new = (1 + e) exp(-Δε_v) must stay above 1 (e >= 0: no grain interpenetration), i.e.
+  // Δε_v < ln(1 + e); tested on (1 + e) exp(-Δε_v) itself (the exp serves e_new, no log)
+  if (!(volume_factor > 0.0)) volume_factor = std::exp(-strain_increment.trace());
+  if (!((1.0 + std::max(state.void_ratio, 0.0)) * volume_factor > 1.0))
     throw std::invalid_argument(
         "force_chains: volumetric strain increment compacts the skeleton "
         "beyond zero void ratio");
   UpdateInfo info;
-  const double void_ratio_new =
-      std::max((1.0 + state.void_ratio) * std::exp(-strain_increment.trace()) - 1.0, 0.0);
+  const double void_ratio_new = std::max((1.0 + state.void_ratio) * volume_factor - 1.0, 0.0);
   const Tensor plastic_strain_old = state.plastic_strain;
 
   if (!state.fluidized && state.r_c < par_.fluidization_size) {
@@ -377,7 +410,9 @@ UpdateInfo ForceChainModel::update(ForceChainState& state, const Eigen::Matrix3d
   Point y{state.stress, state.chi, state.plastic_strain, state.r_c, state.void_ratio};
   Tensor remaining = strain_increment;
   for (int pass = 0; pass < 3; ++pass) {
-    const double left = integrate(y, remaining, info);
+    // exp(-tr) of the whole increment on the first pass, of the rest after contact loss
+    const double left =
+        integrate(y, remaining, pass == 0 ? volume_factor : std::exp(-remaining.trace()), info);
     if (y.r_c < par_.fluidization_size || left <= 0.0) break;
     info.contact_loss = true;
     y.stress.setZero();

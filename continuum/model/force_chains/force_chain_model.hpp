@@ -57,8 +57,10 @@ class ForceChainModel {
   // rate independent. A state with r_c < fluidization_size (e.g. default-constructed) is
   // fluidized on entry. Throws std::invalid_argument for a non-finite increment or one that
   // compacts beyond e = 0 (Δε_v >= ln(1+e)); std::runtime_error if the result is not finite.
+  // volume_factor: exp(-tr Δε) = (1 + e_new)/(1 + e) when the caller has it (> 0; one exp
+  // fewer), else 0 and it is computed here.
   UpdateInfo update(ForceChainState& state, const Eigen::Matrix3d& strain_increment, double dt,
-                    double granular_temperature) const;
+                    double granular_temperature, double volume_factor = 0.0) const;
 
   // Isotropic state at mean stress p, void ratio e, isotropic axis, r_c = √3 p · ocr (ocr >= 1:
   // the ratio of the locus size to the current stress on the axis).
@@ -88,19 +90,24 @@ class ForceChainModel {
   };
   struct PlasticRates {
     Tensor n, m, stiffness_m, chi_rate;
-    double size_rate, denominator, value;
+    double size_rate, denominator;
+    double bulk_modulus;  // K(p) at the point
   };
 
   static bool admissible(const Tensor& stress, const Tensor& chi, double r_c);
   double safe_yield(const Tensor& stress, const Tensor& chi, double r_c) const;
   PlasticRates plastic_rates(const Point& y) const;
-  Increment increment(const Point& y, const Tensor& strain, bool plastic) const;
+  // Euler increment from y over `strain` with the plastic rates r = plastic_rates(y).
+  Increment increment(const Point& y, const Tensor& strain, const PlasticRates& r) const;
   double correct_drift(Point& y) const;  // returns the final f
-  // f0, f1: f at the start and at the end of the elastic trial (both known to the caller).
-  double elastic_fraction(const Point& y, const Tensor& strain, double f0, double f1) const;
+  // f0, f1: f at the start and at the end of the elastic trial (both known to the caller);
+  // stress_gradient: ∂f/∂σ at y if the caller has it, else nullptr.
+  double elastic_fraction(const Point& y, const Tensor& strain, double f0, double f1,
+                          const Tensor* stress_gradient) const;
   // Integrates `strain` from y; returns the fraction of `strain` left when the stress path hits
   // the stress-free apex (0 when the whole increment was integrated).
-  double integrate(Point& y, const Tensor& strain, UpdateInfo& info) const;
+  // volume_factor = exp(-tr strain).
+  double integrate(Point& y, const Tensor& strain, double volume_factor, UpdateInfo& info) const;
   void apex_flow(Point& y, const Tensor& strain) const;
 
   ForceChainParameters par_;
@@ -111,6 +118,7 @@ class ForceChainModel {
   // target axis angle θ̂ independent of the Lode angle (θ̂_c = θ̂_e): cos θ̂, sin θ̂ once
   bool constant_theta_hat_;
   double cos_theta_hat_, sin_theta_hat_;
+  double inv_b_p_;  // 1/b_p
 };
 
 }  // namespace granflow::model::force_chains

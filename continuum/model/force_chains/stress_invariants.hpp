@@ -26,14 +26,18 @@ inline double deviatoric_strain(const Tensor& strain) {
   const Tensor e = deviator(strain);
   return std::sqrt(2.0 / 3.0 * double_contraction(e, e));
 }
+// det t by cofactors of the first row (no Eigen/LU needed).
+inline double determinant(const Tensor& t) {
+  return t(0, 0) * (t(1, 1) * t(2, 2) - t(1, 2) * t(2, 1)) -
+         t(0, 1) * (t(1, 0) * t(2, 2) - t(1, 2) * t(2, 0)) +
+         t(0, 2) * (t(1, 0) * t(2, 1) - t(1, 1) * t(2, 0));
+}
 // cos 3θ of a deviator s; returns 1 (compression) when s vanishes, so that the callers get the
 // compression branch at the isotropic axis, where every Lode-dependent quantity is irrelevant.
 inline double lode_cos3theta(const Tensor& s) {
   const double j2 = 0.5 * double_contraction(s, s);
   if (!(j2 > 0.0)) return 1.0;
-  const double j3 = s(0, 0) * (s(1, 1) * s(2, 2) - s(1, 2) * s(2, 1)) -
-                    s(0, 1) * (s(1, 0) * s(2, 2) - s(1, 2) * s(2, 0)) +
-                    s(0, 2) * (s(1, 0) * s(2, 1) - s(1, 1) * s(2, 0));  // det s
+  const double j3 = determinant(s);
   const double c = 1.5 * std::sqrt(3.0) * j3 / (j2 * std::sqrt(j2));
   return std::clamp(c, -1.0, 1.0);
 }

@@ -58,6 +58,22 @@ class YieldFunctionDiPrisco {
     return g;
   }
 
+  // ∂f/∂σ, ∂f/∂r_c and ∂f/∂χ without f (no logarithm), the same formulas as gradients() with
+  // 1/r and 1/r_c formed once (round-off apart, the same values).
+  YieldGradients gradients_only(const Tensor& stress, const Tensor& axis, double size) const {
+    constexpr double kSqrt3 = 1.7320508075688772;
+    const double r = double_contraction(stress, axis), inv_r = 1.0 / r;
+    const Tensor eta = (kSqrt3 * inv_r) * (stress - r * axis);
+    const Tensor g_eta = -3.0 * gamma_ * (eta * eta) + 2.0 * c2_ * eta;
+    const double g_sigma_r = double_contraction(g_eta, stress) * inv_r;  // g_η:σ / r
+    YieldGradients g;
+    g.value = 0.0;  // not evaluated
+    g.d_stress = inv_r * ((a_ - kSqrt3 * g_sigma_r) * axis + kSqrt3 * g_eta);
+    g.d_size = -a_ / size;
+    g.d_axis = ((a_ - kSqrt3 * g_sigma_r) * inv_r) * stress - kSqrt3 * g_eta;
+    return g;
+  }
+
  private:
   // The pieces ∂f/∂σ and ∂f/∂α share: r = σ:α, η = √3 (σ - r α)/r, η², g_η = ∂f/∂η, g_η:σ.
   struct Shape {
