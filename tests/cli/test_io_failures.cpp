@@ -144,9 +144,8 @@ TEST(IoFailures, ReadOnlyOutIsOneLineNamingTheReason) {
   const fs::path mount_point = dir / "ro";
   fs::create_directories(mount_point);
   Tmpfs tmpfs(mount_point, 64, /*read_only=*/true);
-  // Skipped only where mount(2) is not allowed (not root): a full or read-only disk cannot be
-  // made otherwise; CI runs as root, so there it runs.
-  // Skipped only where a tmpfs cannot be mounted (not root): a full disk needs one; CI is root.
+  // Skipped only where mount(2) is not allowed (not root): a read-only disk cannot be made
+  // otherwise; CI runs as root, so there it runs.
   if (!tmpfs.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here (needs root; CI runs as root)";
   const GranflowRun r =
       run_granflow({"run", rev_case.string(), "--out", (mount_point / "run").string()}, dir);
@@ -169,8 +168,8 @@ TEST(IoFailures, AFullDiskIsNeverAFinishedRun) {
   const fs::path mount_point = dir / "small";
   fs::create_directories(mount_point);
   Tmpfs tmpfs(mount_point, 300);
-  // Skipped only where mount(2) is not allowed (not root); CI runs as root.
-  // Skipped only where a tmpfs cannot be mounted (not root): a full disk needs one; CI is root.
+  // Skipped only where mount(2) is not allowed (not root): a full disk cannot be made otherwise;
+  // CI runs as root, so there it runs.
   if (!tmpfs.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here (needs root)";
   int refused = 0;
   for (const int free_kib : {0, 4, 8, 16, 24, 32, 40, 48, 64}) {
