@@ -2,13 +2,15 @@
 
 #include <array>
 
+#include "dem_coupling/fixes/fix_drainage.hpp"
 #include "dem_coupling/fixes/fix_fluid_le.hpp"
 
 namespace granflow::dem {
 
 namespace {
 // Add {"style/name", &create_style} entries here (see fix_styles.hpp).
-constexpr std::array<FixStyle, 1> fix_style_table{{{"fluid/le", &create_fix_fluid_le}}};
+constexpr std::array<FixStyle, 2> fix_style_table{
+    {{"fluid/le", &create_fix_fluid_le}, {"drainage", &create_fix_drainage}}};
 }  // namespace
 
 std::span<const FixStyle> custom_fix_styles() { return fix_style_table; }

@@ -4,7 +4,9 @@ rest in the DEM (seed mean and band, lowest to highest seed: /transient_pair/gro
 and in the continuum (the REV's steps, the same group), p'(gamma)/p0 and tau(gamma)/p0, one colour per condition, the continuum with
 fitted force-chain parameters (calibrate section) dotted; the liquefaction threshold f p0 dotted
 black. With a stop stage (stop.duration), a third panel: T / flowing T against the time since
-the shear was stopped (log-log), DEM band and continuum.
+the shear was stopped (log-log), DEM band and continuum; with a drained stop
+(stop.drainage_length), a fourth: sigma_yy / sigma_n against that time (the excess pore pressure
+is 1 - it).
 Usage: plot_transient_pair.py RUN_DIR  ->  RUN_DIR/transient_pair.png"""
 import os
 import sys
@@ -21,7 +23,9 @@ def main(run):
     with h5py.File(os.path.join(run, "result.h5"), "r") as f_cont:
         names = sorted(f_cont["transient_pair"].keys(), key=lambda n: int(n.split("_")[-1]))
         stopped = any("stop" in f_cont["transient_pair"][n]["dem"] for n in names)
-        fig, axes = plt.subplots(1, 3 if stopped else 2, figsize=(16 if stopped else 11, 4.2))
+        drained = any("stop_normal_stress" in f_cont["transient_pair"][n].attrs for n in names)
+        panels = 4 if drained else 3 if stopped else 2
+        fig, axes = plt.subplots(1, panels, figsize=(5.3 * panels + 0.4, 4.2))
         ax_p, ax_t = axes[0], axes[1]
         for k, name in enumerate(names):
             cont = f_cont["transient_pair"][name]
@@ -57,6 +61,19 @@ def main(run):
                                   np.asarray(cont["stop/granular_temperature" + suffix]) /
                                   float(cont.attrs["cont" + suffix + "_flowing_T"]),
                                   color=color, lw=1.6, ls=ls)
+            if "stop_normal_stress" in cont.attrs:  # drained: the grains' share of sigma_n
+                ax_d = axes[3]
+                sigma_n = float(cont.attrs["stop_normal_stress"])
+                ax_d.fill_between(t_dem, np.asarray(dem["stop/normal_stress_min"]) / sigma_n,
+                                  np.asarray(dem["stop/normal_stress_max"]) / sigma_n,
+                                  color=color, alpha=0.2, lw=0)
+                ax_d.plot(t_dem, np.asarray(dem["stop/normal_stress_mean"]) / sigma_n,
+                          color=color, lw=1.2)
+                for suffix, ls in (("", "--"), ("_cal", ":")):
+                    if "stop/normal_stress" + suffix in cont:
+                        ax_d.plot(np.asarray(cont["stop/time" + suffix]),
+                                  np.asarray(cont["stop/normal_stress" + suffix]) / sigma_n,
+                                  color=color, lw=1.6, ls=ls)
     ax_p.set_yscale("log")
     ax_p.set_ylabel("p' / p0   (mean stress)")
     ax_t.set_ylabel("tau / p0")
@@ -71,6 +88,11 @@ def main(run):
         ax_s.set_xlabel("time since the shear was stopped (s)")
         ax_s.set_ylabel("T / flowing T")
         ax_s.grid(alpha=0.3, which="both")
+    if drained:
+        ax_d = axes[3]
+        ax_d.set_xlabel("time since the shear was stopped (s)")
+        ax_d.set_ylabel("sigma_yy / sigma_n   (drained: 1 - u / sigma_n)")
+        ax_d.grid(alpha=0.3)
     ax_p.text(0.98, 0.02, "band: lowest to highest DEM seed; dotted: liquefaction threshold",
               transform=ax_p.transAxes, ha="right", va="bottom", fontsize=7)
     fig.suptitle("undrained shear from rest: DEM (solid, band), continuum (dashed), calibrated (dotted)")

@@ -33,11 +33,18 @@ void continuum_transient(const core::Case& condition, double phi0, double p0,
 }
 
 void continuum_stop(const core::Case& condition, const rev::SimpleShearResult& sheared,
-                    rev::SimpleShearSeries& out) {
+                    double normal_stress, rev::SimpleShearSeries& out) {
   const continuum::MultiRegimePoint point(continuum::read_multi_regime_settings(condition));
   rev::ShearStopControl control;
   control.duration = condition.number("stop.duration");
   const double strain = sheared.series.strain.empty() ? 0.0 : sheared.series.strain.back();
+  if (const double length = condition.number("stop.drainage_length"); length > 0.0) {
+    rev::DrainedStopControl drained{control, normal_stress, length};
+    if (condition.has("stop.normal_stress"))
+      drained.normal_stress = condition.number("stop.normal_stress");
+    rev::run_drained_stop(point, sheared.final_state, strain, drained, out);
+    return;
+  }
   rev::run_shear_stop(point, sheared.final_state, strain, control, out);
 }
 

@@ -20,11 +20,12 @@ namespace granflow::transient_pair {
 void continuum_transient(const core::Case& condition, double phi0, double p0,
                          rev::SimpleShearResult& result);
 
-// The continuum's stop stage after `sheared` (rev/shear_stop.hpp): the same point held at its
-// volume with ε̇ = 0 for stop.duration from the state at the end of the shear; rows (time since
-// the stop) appended to `out`. Throws core::NumericalFailure.
+// The continuum's stop stage after `sheared` (rev/shear_stop.hpp) for stop.duration from the
+// state at the end of the shear: the same point held at its volume with ε̇ = 0, or, with
+// stop.drainage_length > 0, drained under stop.normal_stress (default `normal_stress`, the DEM's
+// prepared p0); rows (time since the stop) appended to `out`. Throws core::NumericalFailure.
 void continuum_stop(const core::Case& condition, const rev::SimpleShearResult& sheared,
-                    rev::SimpleShearSeries& out);
+                    double normal_stress, rev::SimpleShearSeries& out);
 
 // The case key of a fitted parameter: force_chains.NAME, or NAME itself when it is a key path
 // (e.g. liquid.viscous_contact).
@@ -41,6 +42,8 @@ struct DemTransient {
   std::vector<double> strain, p_mean, p_min, p_max, tau_mean, tau_min, tau_max, T_mean;
   // The shear stopped (stop.duration > 0): time since the stop, T and p' seed means; else empty.
   std::vector<double> stop_time, stop_T_mean, stop_p_mean;
+  // A drained stop (stop.drainage_length > 0): σ_yy and φ seed means over the stop; else empty.
+  std::vector<double> stop_sigma_yy_mean, stop_phi_mean;
   double phi0 = 0, p0 = 0;
   std::map<std::string, double> metric_err;  // between-seed standard error of each metric
 };

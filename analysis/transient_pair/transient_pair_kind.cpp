@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <set>
 #include <span>
 #include <sstream>
@@ -60,6 +61,7 @@ std::vector<std::string> parameter_names(const core::Case& c) {
 struct Thresholds {
   double liquefaction, residual;  // transient.liquefaction_fraction, transient.residual_fraction
   double cooling;                 // stop.cooling_fraction
+  double reconsolidation;         // stop.reconsolidation_fraction
 };
 
 // summary.json key of a metric: transient.SIDE.NAME, with .G for condition G of a sweep.
@@ -75,13 +77,15 @@ void write_dem_band(core::RunContext& ctx, const std::filesystem::path& dem_h5, 
   const std::string from = fmt::format("/transient/group_{}/", index);
   const auto copy_band = [&](const std::string& part_path) {  // "" or "stop/"
     for (const auto& row : dem::dem_columns::transient_band)
-      for (const char* part :
-           {dem::dem_columns::band_mean, dem::dem_columns::band_min, dem::dem_columns::band_max}) {
-        const std::string name = part_path + row.column.name + part;
-        ctx.result.write(
-            group + "/dem/" + name, core::read_dataset(dem_h5, from + name), row.column.unit,
-            core::read_string_attribute(dem_h5, from + name, "description") + " (DEM)");
-      }
+      if (core::dataset_exists(dem_h5, from + part_path + row.column.name +  // older DEM runs
+                                           dem::dem_columns::band_mean))     // lack some columns
+        for (const char* part : {dem::dem_columns::band_mean, dem::dem_columns::band_min,
+                                 dem::dem_columns::band_max}) {
+          const std::string name = part_path + row.column.name + part;
+          ctx.result.write(
+              group + "/dem/" + name, core::read_dataset(dem_h5, from + name), row.column.unit,
+              core::read_string_attribute(dem_h5, from + name, "description") + " (DEM)");
+        }
   };
   ctx.result.write(group + "/dem/strain", core::read_dataset(dem_h5, from + "strain"), "1",
                    "shear strain of the DEM samples");
@@ -118,12 +122,20 @@ void write_metrics(core::RunContext& ctx, std::span<const MetricPair> metrics,
 
 // The shear stopped (stop.duration > 0): the continuum's stop stage from the end of `rev`, its
 // series under group/stop/NAME{suffix}, the cooling metrics of both sides (transient.dem.NAME,
-// transient.cont{suffix}.NAME, transient.rel_err{suffix}.cooling_time).
+// transient.cont{suffix}.NAME, transient.rel_err{suffix}.cooling_time); with a drained stop also
+// the reconsolidation metrics. A numerical failure of the continuum's stop is rethrown after the
+// rows so far are written.
 void compare_stop(core::RunContext& ctx, const core::Case& condition, const DemTransient& dem,
                   const rev::SimpleShearResult& rev, const Thresholds& limits,
                   const std::string& group, const std::string& g, const std::string& suffix) {
   rev::SimpleShearSeries stop;
-  continuum_stop(condition, rev, stop);
+  std::optional<core::NumericalFailure> failure;
+  try {
+    continuum_stop(condition, rev, dem.p0, stop);
+  } catch (const core::NumericalFailure& e) {
+    failure = e;
+  }
+  const bool drained = condition.number("stop.drainage_length") > 0.0;
   namespace col = core::columns;
   const std::string model =
       suffix.empty() ? "continuum" : "continuum with the fitted force-chain parameters";
@@ -133,10 +145,14 @@ void compare_stop(core::RunContext& ctx, const core::Case& condition, const DemT
        stop.pressure},
       {col::described(col::granular_temperature, "granular temperature T, shear stopped"),
        stop.granular_temperature},
+      {col::described(col::normal_stress, "normal stress σ_yy of the grains, shear stopped"),
+       stop.normal_stress},
+      {col::described(col::solid_fraction, "solid fraction φ, shear stopped"), stop.solid_fraction},
   };
   for (const auto& [column, values] : series)
     ctx.result.write(group + "/stop/" + column.name + suffix, values, column.unit,
                      model + ": " + column.description);
+  if (failure) throw *failure;
   const auto dem_m = dem::stop_metrics(dem.stop_time, dem.stop_T_mean, dem.stop_p_mean,
                                        dem::residual_mean(dem.strain, dem.T_mean, limits.residual),
                                        dem.p0, limits.cooling);
@@ -165,6 +181,38 @@ void compare_stop(core::RunContext& ctx, const core::Case& condition, const DemT
       cont_m.cooling_time > 0 ? fmt::format("{:.4g} s", cont_m.cooling_time) : "never",
       both ? fmt::format(", ratio {:.3g}", cont_m.cooling_time / dem_m.cooling_time) : "",
       dem_m.final_p_over_p0, cont_m.final_p_over_p0);
+  if (!drained) return;
+  const double normal_stress =
+      condition.has("stop.normal_stress") ? condition.number("stop.normal_stress") : dem.p0;
+  const auto dem_d =
+      dem::drained_stop_metrics(dem.stop_time, dem.stop_sigma_yy_mean, dem.stop_phi_mean, dem.phi0,
+                                normal_stress, limits.reconsolidation);
+  const auto cont_d = dem::drained_stop_metrics(stop.time, stop.normal_stress, stop.solid_fraction,
+                                                dem.phi0, normal_stress, limits.reconsolidation);
+  const MetricPair drained_metrics[] = {
+      {"reconsolidation_time", {dem_d.reconsolidation_time, cont_d.reconsolidation_time}},
+      {"stop_phi", {dem_d.final_solid_fraction, cont_d.final_solid_fraction}},
+      {"stop_phi_change", {dem_d.solid_fraction_change, cont_d.solid_fraction_change}},
+  };
+  write_metrics(ctx, drained_metrics, dem, group, g, suffix);
+  ctx.result.attribute(group, "stop_normal_stress", normal_stress);
+  const bool both_reconsolidated =
+      dem_d.reconsolidation_time > 0 && cont_d.reconsolidation_time > 0;
+  if (both_reconsolidated)
+    sum.set(metric_key("rel_err" + suffix, "reconsolidation_time", g),
+            relative_error(cont_d.reconsolidation_time, dem_d.reconsolidation_time));
+  ctx.log->info(
+      "  drained under σ_n = {:.4g} Pa: σ_yy reached {:g} σ_n after {} (DEM) and {} "
+      "(continuum){}; φ {:.4f} -> {:.4f} (DEM), {:.4f} (continuum)",
+      normal_stress, limits.reconsolidation,
+      dem_d.reconsolidation_time > 0 ? fmt::format("{:.4g} s", dem_d.reconsolidation_time)
+                                     : "never",
+      cont_d.reconsolidation_time > 0 ? fmt::format("{:.4g} s", cont_d.reconsolidation_time)
+                                      : "never",
+      both_reconsolidated
+          ? fmt::format(", ratio {:.3g}", cont_d.reconsolidation_time / dem_d.reconsolidation_time)
+          : "",
+      dem.phi0, dem_d.final_solid_fraction, cont_d.final_solid_fraction);
 }
 
 // The continuum's undrained shear of one condition beside the DEM's: series under
@@ -451,10 +499,18 @@ int run_transient_pair_case(core::RunContext& ctx) {
       t.stop_time = core::read_dataset(h5, group + "stop/" + core::columns::time.name);
       t.stop_T_mean = core::read_dataset(h5, group + "stop/" + T_name + band::band_mean);
       t.stop_p_mean = core::read_dataset(h5, group + "stop/" + p_name + band::band_mean);
+      const std::string sigma_name = band::transient_band[2].column.name;  // σ_yy
+      const std::string phi_name = band::transient_band[6].column.name;    // φ
+      if (core::dataset_exists(h5, group + "stop/" + phi_name + band::band_mean)) {
+        t.stop_sigma_yy_mean =
+            core::read_dataset(h5, group + "stop/" + sigma_name + band::band_mean);
+        t.stop_phi_mean = core::read_dataset(h5, group + "stop/" + phi_name + band::band_mean);
+      }
     }
-    for (const char* name : {"peak_tau", "peak_strain", "residual_tau", "residual_p",
-                             "p_final_over_p0", "liquefaction_strain", "flowing_T", "cooling_time",
-                             "stop_T_over_flowing_T", "stop_p_over_p0"})
+    for (const char* name :
+         {"peak_tau", "peak_strain", "residual_tau", "residual_p", "p_final_over_p0",
+          "liquefaction_strain", "flowing_T", "cooling_time", "stop_T_over_flowing_T",
+          "stop_p_over_p0", "reconsolidation_time", "stop_phi", "stop_phi_change"})
       try {
         t.metric_err[name] = core::read_number_attribute(h5, group, std::string("err_") + name);
       } catch (const std::exception&) {  // no seed liquefied: no liquefaction strain
@@ -490,9 +546,9 @@ int run_transient_pair_case(core::RunContext& ctx) {
   }
 
   // ---- continuum side, condition by condition (the DEM's /transient/group_G, in sweep order)
-  const Thresholds limits{c.number("transient.liquefaction_fraction"),
-                          c.number("transient.residual_fraction"),
-                          c.number("stop.cooling_fraction")};
+  const Thresholds limits{
+      c.number("transient.liquefaction_fraction"), c.number("transient.residual_fraction"),
+      c.number("stop.cooling_fraction"), c.number("stop.reconsolidation_fraction")};
   for (std::size_t g = 0; g < conditions.size(); ++g) {
     const std::string key = conditions.size() > 1 ? fmt::format(".{}", g) : std::string();
     const std::string group = fmt::format("/transient_pair/group_{}", g);

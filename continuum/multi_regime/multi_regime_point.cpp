@@ -1,5 +1,6 @@
 #include "continuum/multi_regime/multi_regime_point.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -74,6 +75,15 @@ double contact_pressure(const MultiRegimeSettings& s, double solid_fraction, dou
   const double viscous =
       s.liquid ? s.viscous_contact * s.liquid_parameters.viscosity * shear_rate : 0.0;
   return (p.particle_density * scale * scale + viscous) * std::pow(gap, -s.inertial_contact_power);
+}
+
+double MultiRegimePoint::solid_fraction_limit() const {
+  double limit = 1.0;
+  if (settings_.collisional)
+    limit = std::min(limit, model::maximum_solid_fraction(settings_.collisional_parameters));
+  if (settings_.liquid)
+    limit = std::min(limit, model::maximum_mixture_solid_fraction(settings_.liquid_parameters));
+  return limit * (1.0 - 1e-9);
 }
 
 double MultiRegimePoint::inertial_contact_pressure(double solid_fraction, double shear_rate) const {

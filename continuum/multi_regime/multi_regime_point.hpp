@@ -123,6 +123,10 @@ class MultiRegimePoint {
     return force_chain_model_ ? &*force_chain_model_ : nullptr;
   }
 
+  // The largest admissible ν: just below the collisional closures' ν_c and the mixture
+  // viscosity's maximum packing (the terms that are on; 1 when neither is), where they diverge.
+  double solid_fraction_limit() const;
+
   // p_IC = contact_pressure(settings(), ν, γ̇), Pa. Throws std::domain_error at ν >= ν_c.
   double inertial_contact_pressure(double solid_fraction, double shear_rate) const;
   // μ_IC = M(θ = 0)/√3 of the force chains' critical state (τ_IC = μ_IC p_IC in simple shear).

@@ -18,15 +18,6 @@ using continuum::StressParts;
 
 // Largest solid fraction the enabled closures admit (g0 diverges at ν_c, η(ν) at ν_m), with a
 // relative margin so that a trial step never evaluates a closure at its singularity.
-double solid_fraction_limit(const MultiRegimePoint& point) {
-  const auto& s = point.settings();
-  double limit = 1.0;
-  if (s.collisional)
-    limit = std::min(limit, model::maximum_solid_fraction(s.collisional_parameters));
-  if (s.liquid) limit = std::min(limit, model::maximum_mixture_solid_fraction(s.liquid_parameters));
-  return limit * (1.0 - 1e-9);
-}
-
 double deviator_q(const Eigen::Matrix3d& stress) { return stress(0, 0) - stress(1, 1); }
 
 struct Trial {
@@ -108,7 +99,7 @@ void run_triaxial(const MultiRegimePoint& point, const TriaxialControl& control,
   const auto& settings = point.settings();
   const auto& liquid = settings.liquid_parameters;
   const double K_w = liquid.bulk_modulus;
-  const double nu_limit = solid_fraction_limit(point);
+  const double nu_limit = point.solid_fraction_limit();
   const double u_b = control.pore_pressure;
 
   PointState state = point.initial_state(control.void_ratio, control.effective_pressure,

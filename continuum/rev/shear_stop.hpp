@@ -29,4 +29,26 @@ struct ShearStopControl {
 void run_shear_stop(const continuum::MultiRegimePoint& point, continuum::PointState state,
                     double stop_strain, const ShearStopControl& control, SimpleShearSeries& series);
 
+// The drained stop: the point, at rest (γ̇ = 0, ε̇_xx = ε̇_zz = 0), under a total normal stress σ_n
+// shared by the grains and the excess pore pressure u that drives its liquid out over the
+// drainage length H (Terzaghi's consolidation lumped to one point, as the consolidating element
+// test and the DEM's fix drainage):
+//   σ_yy(state) + u = σ_n,   ε̇_yy = k u,   k = κ(ν) / (η0 H²)
+// (κ the liquid's permeability closure at the point's diameter, k at the start of each step, u
+// implicit: constant_normal_stress_step with the drainage resistance 1/k). The point compacts
+// as fast as the liquid leaves; compaction regrows r_c (docs/model/force_chains.md) and heats it
+// (p_COL ε̇_v in the T balance). Steps: Δt <= time_step_factor / rate with rate the larger of the
+// cooling rate of s and k M (M = dσ_yy/dε_yy of the last step, the consolidation rate), and
+// <= largest_step_fraction × duration. Appends rows as run_shear_stop, with vertical_strain_rate
+// ε̇_yy. Throws core::NumericalFailure (step, variable) when no compaction carries σ_n.
+struct DrainedStopControl {
+  ShearStopControl stop;
+  double normal_stress = 100.0;   // σ_n, Pa
+  double drainage_length = 0.01;  // H, m
+};
+
+void run_drained_stop(const continuum::MultiRegimePoint& point, continuum::PointState state,
+                      double stop_strain, const DrainedStopControl& control,
+                      SimpleShearSeries& series);
+
 }  // namespace granflow::rev

@@ -50,7 +50,8 @@ double vertical_stiffness(const continuum::MultiRegimePoint& point,
 NormalStressStep constant_normal_stress_step(const continuum::MultiRegimePoint& point,
                                              const continuum::PointState& start, double shear_rate,
                                              double dt, double normal_stress, double guess,
-                                             double relative_tolerance, long step) {
+                                             double relative_tolerance, long step,
+                                             double drainage_resistance) {
   const auto& settings = point.settings();
   const double tolerance = relative_tolerance * std::abs(normal_stress);
   int evaluations = 0;
@@ -60,17 +61,19 @@ NormalStressStep constant_normal_stress_step(const continuum::MultiRegimePoint& 
     out.strain_rate = simple_shear_strain_rate(shear_rate, x / dt);
     out.parts = point.advance(out.state, out.strain_rate, dt);
     out.vertical_strain = x;
-    out.residual = out.parts.total_without_pore_pressure()(1, 1) - normal_stress;
+    // σ_yy + u - p, u = r Δε_yy / Δt the excess pore pressure driving the drainage (r = 0: none)
+    out.residual = out.parts.total_without_pore_pressure()(1, 1) + drainage_resistance * x / dt -
+                   normal_stress;
     out.evaluations = ++evaluations;
     return out;
   };
-  // Admissible Δε_yy: ν exp(Δε_yy) in [0.05, ν_c) (the closures are singular at ν_c; without
-  // the collisional term, half-way to e = 0, inside the force-chain model's bound ln(1+e)).
+  // Admissible Δε_yy: ν exp(Δε_yy) in [0.05, ν_lim) (the closures are singular at ν_c and the
+  // mixture viscosity at its maximum packing; with neither term, half-way to e = 0, inside the
+  // force-chain model's bound ln(1+e)).
   const double nu = start.solid_fraction;
-  const double x_max =
-      settings.collisional
-          ? std::log((model::maximum_solid_fraction(settings.collisional_parameters) - 1e-13) / nu)
-          : 0.5 * std::log(1.0 / nu);
+  const double x_max = settings.collisional || settings.liquid
+                           ? std::log(point.solid_fraction_limit() / nu)
+                           : 0.5 * std::log(1.0 / nu);
   const double x_min = std::log(0.05 / nu);  // ν >= 0.05: a dilute gas
 
   NormalStressStep a = trial(std::clamp(guess, x_min, x_max));
@@ -78,7 +81,7 @@ NormalStressStep constant_normal_stress_step(const continuum::MultiRegimePoint& 
   // Bracketing: R increases with Δε_yy. First step from the stiffness estimate, then secant
   // extrapolation overshooting by 1 % (a tight bracket), at least doubling and at most 16 × the
   // last move.
-  double move = -a.residual / vertical_stiffness(point, start);
+  double move = -a.residual / (vertical_stiffness(point, start) + drainage_resistance / dt);
   NormalStressStep b = trial(std::clamp(a.vertical_strain + move, x_min, x_max));
   for (int it = 0; it < 200 && (b.residual > 0) == (a.residual > 0); ++it) {
     if (std::abs(b.residual) <= tolerance) return b;
@@ -139,18 +142,20 @@ NormalStressStep constant_normal_stress_step(const continuum::MultiRegimePoint& 
 NormalStressStep advance_at_normal_stress(const continuum::MultiRegimePoint& point,
                                           const continuum::PointState& start, double shear_rate,
                                           double dt, double normal_stress, double guess,
-                                          double relative_tolerance, long step, int max_splits) {
-  NormalStressStep whole = constant_normal_stress_step(point, start, shear_rate, dt, normal_stress,
-                                                       guess, relative_tolerance, step);
+                                          double relative_tolerance, long step, int max_splits,
+                                          double drainage_resistance) {
+  NormalStressStep whole =
+      constant_normal_stress_step(point, start, shear_rate, dt, normal_stress, guess,
+                                  relative_tolerance, step, drainage_resistance);
   if (std::abs(whole.residual) <= relative_tolerance * std::abs(normal_stress) || max_splits <= 0)
     return whole;
   const double half = 0.5 * dt;
   NormalStressStep first =
       advance_at_normal_stress(point, start, shear_rate, half, normal_stress, 0.5 * guess,
-                               relative_tolerance, step, max_splits - 1);
-  NormalStressStep second =
-      advance_at_normal_stress(point, first.state, shear_rate, half, normal_stress,
-                               first.vertical_strain, relative_tolerance, step, max_splits - 1);
+                               relative_tolerance, step, max_splits - 1, drainage_resistance);
+  NormalStressStep second = advance_at_normal_stress(
+      point, first.state, shear_rate, half, normal_stress, first.vertical_strain,
+      relative_tolerance, step, max_splits - 1, drainage_resistance);
   // keep the better of the whole step and the split one
   if (std::abs(second.residual) >= std::abs(whole.residual)) {
     whole.evaluations += first.evaluations + second.evaluations;

@@ -31,10 +31,15 @@ Eigen::Matrix3d simple_shear_strain_rate(double shear_rate, double vertical_stra
 // bracket cannot shrink: the residual is then the best reached; the caller checks it).
 // `guess` is the first trial Δε_yy (the previous step's). Throws core::NumericalFailure (naming
 // `step`) when no admissible Δε_yy (ν in [0.05, ν_c)) brackets the root.
+// Drained (drainage_resistance r = η0 H² / κ > 0, Pa s): p is the total normal stress, shared by
+// the grains and the excess pore pressure u = r ε̇_yy that drives the liquid out over the
+// drainage length H (lumped Darcy outflow, ε̇_yy = u κ / (η0 H²)), so R = σ_yy + r Δε_yy/Δt - p:
+// backward Euler in u, stable at any Δt.
 NormalStressStep constant_normal_stress_step(const continuum::MultiRegimePoint& point,
                                              const continuum::PointState& start, double shear_rate,
                                              double dt, double normal_stress, double guess,
-                                             double relative_tolerance, long step);
+                                             double relative_tolerance, long step,
+                                             double drainage_resistance = 0.0);
 
 // The step of Δt as above, split into two half steps (each again up to `max_splits` levels) when
 // no Δε_yy meets the tolerance: R(Δε_yy) jumps by ~STOL |Δσ_FC| where the force-chain
@@ -44,6 +49,7 @@ NormalStressStep constant_normal_stress_step(const continuum::MultiRegimePoint& 
 NormalStressStep advance_at_normal_stress(const continuum::MultiRegimePoint& point,
                                           const continuum::PointState& start, double shear_rate,
                                           double dt, double normal_stress, double guess,
-                                          double relative_tolerance, long step, int max_splits = 8);
+                                          double relative_tolerance, long step, int max_splits = 8,
+                                          double drainage_resistance = 0.0);
 
 }  // namespace granflow::rev

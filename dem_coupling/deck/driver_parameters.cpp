@@ -45,6 +45,11 @@ std::string driver_parameter_lines(const DriverParameters& p) {
         p.check_every, p.targets.confirm_checks, p.temperature_scale);
   }
   if (p.stop_steps > 0) lines += fmt::format("variable gf_stop_steps equal {}\n", p.stop_steps);
+  if (p.stop_steps > 0 && p.stop_drainage_length > 0.0)
+    lines += fmt::format(
+        "variable gf_stop_drainage_length equal {:.17g}\n"
+        "variable gf_stop_normal_stress equal {:.17g}\n",
+        p.stop_drainage_length, p.stop_normal_stress);
   return lines;
 }
 
@@ -94,6 +99,10 @@ DriverParameters driver_parameters_from_words(const std::vector<std::string>& wo
       p.temperature_scale = value;
     else if (name == "stop_steps")
       p.stop_steps = integer;
+    else if (name == "stop_drainage_length")
+      p.stop_drainage_length = value;
+    else if (name == "stop_normal_stress")
+      p.stop_normal_stress = value;
     else if (const auto k = target_index(name); k < target_observables.size())
       p.targets.error[k] = value;
     else

@@ -61,6 +61,11 @@ struct DriverParameters {
   // gf_stop_steps, written only when > 0: after the shear, the shear stopped at constant volume
   // for this many steps (driver/shear_stop.hpp).
   long stop_steps = 0;
+  // gf_stop_drainage_length and gf_stop_normal_stress, written only with a stop stage and a
+  // length > 0: the stopped box compacts under the normal stress as its liquid drains over this
+  // length (fix drainage, fixes/fix_drainage.hpp) instead of being held.
+  double stop_drainage_length = 0.0;  // m
+  double stop_normal_stress = 0.0;    // Pa
 };
 
 // "variable gf_<name> equal <value>" lines, reals with 17 significant digits (exact round trip).
@@ -73,8 +78,9 @@ std::string granular_atom_setup();
 // variable without its prefix: shear_rate, total_steps, sample_every, constant_pressure,
 // normal_stress, servo_gain, servo_max_strain, servo_every, servo_move_every, profile_bins,
 // particle_density, target_friction, target_solid_fraction, target_temperature, check_every,
-// stop_steps, confirm_checks, temperature_scale); servo_every defaults to sample_every. Throws
-// std::invalid_argument naming a word that is not NAME=VALUE with a known NAME and a number.
+// stop_steps, stop_drainage_length, stop_normal_stress, confirm_checks, temperature_scale);
+// servo_every defaults to sample_every. Throws std::invalid_argument naming a word that is not
+// NAME=VALUE with a known NAME and a number.
 DriverParameters driver_parameters_from_words(const std::vector<std::string>& words);
 
 }  // namespace granflow::dem

@@ -196,6 +196,10 @@ std::vector<std::pair<std::string, std::string>> check_shear_params(const ShearD
     issues.emplace_back("stop.duration",
                         "0 under control.mode constant_pressure (the stop holds "
                         "the volume)");
+  if (p.stop_drainage_length > 0.0 && !p.wet.enabled)
+    issues.emplace_back("stop.drainage_length",
+                        "0 without a liquid (liquid.enabled: true; a dry sample has nothing "
+                        "to drain)");
   if (issues.empty()) {
     // The compressed periodic box must hold a few of the largest particles across, or the
     // ghost shell (cutoff d_max + skin) would wrap onto itself.
@@ -410,6 +414,8 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
   driver.targets = p.targets;
   driver.check_every = out.check_every;
   driver.stop_steps = out.stop_steps;
+  driver.stop_drainage_length = p.stop_drainage_length;
+  driver.stop_normal_stress = p.stop_normal_stress;
   // (d γ̇)² as point_analysis.cpp forms it, so the frozen check is the same number
   driver.temperature_scale = out.mean_diameter * p.shear_rate * out.mean_diameter * p.shear_rate;
   const double skin = 0.2 * out.mean_diameter;

@@ -95,7 +95,11 @@ struct ShearDeckParams {
   double total_strain = 20.0;       // with targets: the largest run (strain.max)
   // After the shear: the shear stopped at constant volume for this long (s); 0: no stop stage.
   double stop_duration = 0.0;
-  double sample_strain = 0.01;  // shear strain between samples
+  // Drained stop (immersed only): the stopped box compacts under stop_normal_stress as fast as
+  // its liquid drains over stop_drainage_length (fix drainage); 0: held at constant volume.
+  double stop_drainage_length = 0.0;  // m
+  double stop_normal_stress = 0.0;    // Pa
+  double sample_strain = 0.01;        // shear strain between samples
   // strain.target_error: granflow-dem stops once the steady window has been steady with its
   // errors within these at targets.confirm_checks consecutive checks (kind/steady_checks.hpp);
   // none: it runs total_strain.

@@ -515,15 +515,35 @@ int main(int argc, char** argv) {
     stop_steps = std::lround(*static_cast<double*>(p));
     std::free(p);
   }
+  // Drained (gf_stop_drainage_length > 0): fix drainage compacts the box under
+  // gf_stop_normal_stress as its liquid drains (fixes/fix_drainage.hpp).
+  double drainage_length = 0.0, drained_normal_stress = 0.0;
+  if (void* p =
+          lammps_extract_variable(handle, const_cast<char*>("gf_stop_drainage_length"), nullptr)) {
+    drainage_length = *static_cast<double*>(p);
+    std::free(p);
+    drained_normal_stress = deck_variable(handle, "gf_stop_normal_stress", rank);
+  }
   if (stop_steps > 0) {
     const long stop_begin = shear_begin + done;
     const granflow::dem::StoppedFlow stopped = granflow::dem::stop_shear(handle, *lmp, shear_rate);
+    if (drainage_length > 0.0) {
+      std::snprintf(command, sizeof command,
+                    "fix gf_drain all drainage %.17g %.17g gf_virial "
+                    "gf_fluid",
+                    drained_normal_stress, drainage_length);
+      lammps_command(handle, command);
+    }
+    char how[128] = "at constant volume";
+    if (drainage_length > 0.0)
+      std::snprintf(how, sizeof how, "drained over %.4g m under sigma_yy = %.6g Pa",
+                    drainage_length, drained_normal_stress);
     if (rank == 0)
       std::printf(
           "granflow-dem: shear stopped at step %ld (strain %.6g): streaming profile, mean spin "
-          "%.6g 1/s and drift (%.3g, %.3g, %.3g) m/s taken out; %ld steps at constant volume\n",
+          "%.6g 1/s and drift (%.3g, %.3g, %.3g) m/s taken out; %ld steps %s\n",
           stop_begin, shear_rate * double(done) * dt, stopped.mean_spin, stopped.drift[0],
-          stopped.drift[1], stopped.drift[2], stop_steps);
+          stopped.drift[1], stopped.drift[2], stop_steps, how);
     for (; stop_done < stop_steps; stop_done += sample_every) {
       const long n = std::min(sample_every, stop_steps - stop_done);
       std::snprintf(command, sizeof command, "run %ld pre %s post no", n,

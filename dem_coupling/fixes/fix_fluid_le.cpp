@@ -310,4 +310,9 @@ LAMMPS_NS::Fix* create_fix_fluid_le(LAMMPS_NS::LAMMPS* lmp, int narg, char** arg
   return new fluid_le_detail::FixFluidLE(lmp, narg, arg);
 }
 
+const model::LiquidParameters* fluid_le_liquid(const LAMMPS_NS::Fix* fix) {
+  const auto* fluid = dynamic_cast<const fluid_le_detail::FixFluidLE*>(fix);
+  return fluid ? &fluid->settings().liquid : nullptr;
+}
+
 }  // namespace granflow::dem

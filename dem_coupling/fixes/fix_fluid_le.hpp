@@ -53,6 +53,10 @@
 // c_pressure + P_kin.
 #pragma once
 
+namespace granflow::model {
+struct LiquidParameters;
+}
+
 namespace LAMMPS_NS {
 class LAMMPS;
 class Fix;
@@ -61,6 +65,10 @@ class Fix;
 namespace granflow::dem {
 
 LAMMPS_NS::Fix* create_fix_fluid_le(LAMMPS_NS::LAMMPS* lmp, int narg, char** arg);
+
+// The liquid of `fix` when it is a fix fluid/le (viscosity, permeability closure, sphericity), else
+// nullptr: other fixes (fix drainage) use the liquid the drag uses.
+const model::LiquidParameters* fluid_le_liquid(const LAMMPS_NS::Fix* fix);
 
 // Number of entries of the global vector and the 0-based offsets of its blocks.
 namespace fluid_le_vector {

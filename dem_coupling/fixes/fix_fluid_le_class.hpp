@@ -39,6 +39,7 @@ class FixFluidLE : public LAMMPS_NS::Fix {
   void setup(int vflag) override;
   void post_force(int vflag) override;
   double compute_vector(int n) override;
+  const FluidForceSettings& settings() const { return settings_; }
 
  private:
   // Streaming (fluid) velocity gradient L = H_rate H⁻¹ of the deforming box and the vorticity/2.

@@ -236,6 +236,7 @@ inline constexpr DemColumn transient_band[] = {
     {"T", described(c::granular_temperature, "T about the Lees-Edwards streaming profile")},
     {"Z_nr", coordination_number_nonrattler},
     {"nonrattler_fraction", nonrattler_fraction},
+    {"phi", c::solid_fraction},
 };
 inline constexpr const char* band_mean = "_mean";  // seed mean, sample by sample
 inline constexpr const char* band_min = "_min";    // lowest seed

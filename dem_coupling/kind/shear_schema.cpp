@@ -217,8 +217,9 @@ core::Schema shear_schema() {
       .at_most(1);
   auto& stop =
       s.section("stop",
-                "after the shear, the shear stopped at constant volume (the streaming "
-                "flow taken out, the box held): the agitation decays (docs/transient_dem.md)");
+                "after the shear, the shear stopped (the streaming flow taken out): the box "
+                "held, or drained under a normal stress; the agitation decays "
+                "(docs/transient_dem.md)");
   stop.number("duration", "s", "how long the stopped sample is followed; 0: no stop stage")
       .default_value("0")
       .at_least(0);
@@ -226,6 +227,21 @@ core::Schema shear_schema() {
               "cooling time: the time after the stop at which T first falls below this fraction "
               "of the flowing T (its mean over the residual window of the shear)")
       .default_value("0.1")
+      .greater_than(0)
+      .less_than(1);
+  stop.number("drainage_length", "m",
+              "drained stop (immersed only): the stopped sample compacts under stop.normal_stress "
+              "as fast as its liquid drains over this length, ε̇_yy = κ(φ)/(η0 H²) (σ_n − σ_yy) "
+              "(fix drainage); 0: the volume is held")
+      .default_value("0")
+      .at_least(0);
+  stop.number("normal_stress", "Pa",
+              "total normal stress σ_n of a drained stop (default: the prepared p0)")
+      .greater_than(0);
+  stop.number("reconsolidation_fraction", "",
+              "reconsolidation time of a drained stop: the first time σ_yy reaches this fraction "
+              "of stop.normal_stress (the excess pore pressure below 1 − fraction of it)")
+      .default_value("0.9")
       .greater_than(0)
       .less_than(1);
   auto& output = s.section("output", "what is written");
@@ -291,6 +307,8 @@ ShearDeckParams read_shear_params(const core::Case& c) {
                                                         : 0.1;
   p.total_strain = c.number("strain.total");
   p.stop_duration = c.number("stop.duration");
+  p.stop_drainage_length = c.number("stop.drainage_length");
+  if (c.has("stop.normal_stress")) p.stop_normal_stress = c.number("stop.normal_stress");
   p.sample_strain = c.number("strain.sample");
   // strain.target_error: the observables of target_observables (deck/driver_parameters.hpp);
   // the run is then at most strain.max long (dem_kind.cpp checks that it is given).

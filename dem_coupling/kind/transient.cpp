@@ -101,6 +101,31 @@ StopMetrics stop_metrics(std::span<const double> time_since_stop, std::span<cons
   return m;
 }
 
+DrainedStopMetrics drained_stop_metrics(std::span<const double> time_since_stop,
+                                        std::span<const double> sigma_yy,
+                                        std::span<const double> solid_fraction,
+                                        double solid_fraction_at_stop, double normal_stress,
+                                        double reconsolidation_fraction) {
+  DrainedStopMetrics m;
+  const std::size_t n = std::min({time_since_stop.size(), sigma_yy.size(), solid_fraction.size()});
+  if (n == 0) return m;
+  const double target = reconsolidation_fraction * normal_stress;
+  for (std::size_t i = 0; i < n; ++i)
+    if (sigma_yy[i] >= target) {
+      if (i == 0) {
+        m.reconsolidation_time = time_since_stop[0];
+      } else {
+        const double w = (target - sigma_yy[i - 1]) / (sigma_yy[i] - sigma_yy[i - 1]);
+        m.reconsolidation_time =
+            time_since_stop[i - 1] + w * (time_since_stop[i] - time_since_stop[i - 1]);
+      }
+      break;
+    }
+  m.final_solid_fraction = solid_fraction[n - 1];
+  m.solid_fraction_change = solid_fraction[n - 1] - solid_fraction_at_stop;
+  return m;
+}
+
 double residual_mean(std::span<const double> strain, std::span<const double> values,
                      double residual_fraction) {
   const std::size_t n = std::min(strain.size(), values.size());
@@ -155,7 +180,8 @@ TransientShear::TransientShear(const core::Case& run_case)
     : enabled_(run_case.has("start.preparation")),
       fraction_(run_case.number("transient.liquefaction_fraction")),
       residual_(run_case.number("transient.residual_fraction")),
-      cooling_fraction_(run_case.number("stop.cooling_fraction")) {}
+      cooling_fraction_(run_case.number("stop.cooling_fraction")),
+      reconsolidation_fraction_(run_case.number("stop.reconsolidation_fraction")) {}
 
 void TransientShear::apply(const core::Case& c, ShearDeckParams& p) const {
   if (!enabled_) return;
@@ -164,6 +190,7 @@ void TransientShear::apply(const core::Case& c, ShearDeckParams& p) const {
   p.particles = std::lround(s.particles);
   p.solid_fraction = s.phi;
   if (!c.has("control.initial_temperature")) p.initial_temperature = 0.0;
+  if (!c.has("stop.normal_stress")) p.stop_normal_stress = s.p;  // a drained stop's default σ_n
 }
 
 void TransientShear::absorb(core::RunContext& ctx, std::size_t n, const std::filesystem::path& dir,
@@ -221,6 +248,28 @@ void TransientShear::absorb(core::RunContext& ctx, std::size_t n, const std::fil
         n, point.stop_time.back(), cooling_fraction_, q.flowing_temperature,
         q.cooling_time >= 0 ? fmt::format("after {:.4g} s", q.cooling_time) : std::string("never"),
         q.final_temperature_ratio, q.final_p_over_p0);
+    if (p.stop_drainage_length > 0.0) {
+      constexpr std::size_t sigma_row = 2, phi_row = 6;  // transient_band: σ_yy, φ
+      point.drained = true;
+      point.drained_stop = drained_stop_metrics(
+          point.stop_time, point.stop_band[sigma_row], point.stop_band[phi_row],
+          point.band[phi_row].back(), p.stop_normal_stress, reconsolidation_fraction_);
+      const DrainedStopMetrics& d = point.drained_stop;
+      for (const auto& [name, value] : std::initializer_list<std::pair<const char*, double>>{
+               {"reconsolidation_time", d.reconsolidation_time},
+               {"stop_phi", d.final_solid_fraction},
+               {"stop_phi_change", d.solid_fraction_change}}) {
+        ctx.summary.set(fmt::format("transient.{}{}", name, suffix), value);
+        ctx.result.attribute(group + "/series", std::string("transient_") + name, value);
+      }
+      ctx.log->info(
+          "point {}: drained over {:g} m under σ_n = {:.4g} Pa: σ_yy reached {:g} σ_n {}; φ "
+          "{:.4f} -> {:.4f}",
+          n, p.stop_drainage_length, p.stop_normal_stress, reconsolidation_fraction_,
+          d.reconsolidation_time >= 0 ? fmt::format("after {:.4g} s", d.reconsolidation_time)
+                                      : std::string("never"),
+          point.band[phi_row].back(), d.final_solid_fraction);
+    }
   }
   const std::pair<const char*, double> values[] = {
       {"p0", s.p},
@@ -305,6 +354,9 @@ void TransientShear::finish(core::RunContext& ctx, const std::vector<Condition>&
                        core::columns::time.unit, "time since the shear was stopped");
       write_band(ctx, group + "/stop/", members, stop_rows, &Point::stop_band, ", shear stopped");
       ctx.result.attribute(group + "/stop", "cooling_fraction", cooling_fraction_);
+      if (members.front()->drained)
+        ctx.result.attribute(group + "/stop", "reconsolidation_fraction",
+                             reconsolidation_fraction_);
     }
     // Metrics: mean over the seeds and its standard error (between-seed sd / sqrt(N)).
     auto stats = [&](auto get, const char* name) {
@@ -340,6 +392,17 @@ void TransientShear::finish(core::RunContext& ctx, const std::vector<Condition>&
             "cooling_time");
       stats([](const Point& m) { return m.stop.final_temperature_ratio; }, "stop_T_over_flowing_T");
       stats([](const Point& m) { return m.stop.final_p_over_p0; }, "stop_p_over_p0");
+      if (members.front()->drained) {
+        stats(
+            [&](const Point& m) {
+              return m.drained_stop.reconsolidation_time >= 0 ? m.drained_stop.reconsolidation_time
+                                                              : nan;
+            },
+            "reconsolidation_time");
+        stats([](const Point& m) { return m.drained_stop.final_solid_fraction; }, "stop_phi");
+        stats([](const Point& m) { return m.drained_stop.solid_fraction_change; },
+              "stop_phi_change");
+      }
     }
     double liquefied = 0;
     for (const Point* m : members) liquefied += m->metrics.liquefaction_strain >= 0 ? 1 : 0;

@@ -52,6 +52,21 @@ StopMetrics stop_metrics(std::span<const double> time_since_stop, std::span<cons
                          std::span<const double> p, double flowing_temperature, double p0,
                          double cooling_fraction);
 
+// A drained stop (stop.drainage_length > 0): the sample compacts under the normal stress σ_n.
+//   reconsolidation time: the first time σ_yy >= f σ_n (f = stop.reconsolidation_fraction; the
+//     excess pore pressure u = σ_n − σ_yy below (1 − f) σ_n), interpolated linearly between
+//     samples (from (0, the first sample)); -1: never;
+//   final φ and its change from the stop: the last sample against φ at the stop.
+struct DrainedStopMetrics {
+  double reconsolidation_time = -1, final_solid_fraction = 0, solid_fraction_change = 0;
+};
+
+DrainedStopMetrics drained_stop_metrics(std::span<const double> time_since_stop,
+                                        std::span<const double> sigma_yy,
+                                        std::span<const double> solid_fraction,
+                                        double solid_fraction_at_stop, double normal_stress,
+                                        double reconsolidation_fraction);
+
 // Mean of `values` over the residual window (strain >= (1 - r) × the last strain).
 double residual_mean(std::span<const double> strain, std::span<const double> values,
                      double residual_fraction);
@@ -94,6 +109,8 @@ class TransientShear {
     std::vector<double> stop_time;               // since the stop (empty: no stop stage)
     std::vector<std::vector<double>> stop_band;  // as band, over the stop's rows
     StopMetrics stop;
+    bool drained = false;  // the stop compacted under stop.normal_stress (drainage)
+    DrainedStopMetrics drained_stop;
   };
   // The seed mean, lowest and highest seed of each dem_columns::transient_band column, row by
   // row (rows: the fewest any member has), as PREFIX + NAME_{mean,min,max}; `note` is added to
@@ -103,6 +120,7 @@ class TransientShear {
                          std::vector<std::vector<double>> Point::*series, const std::string& note);
   bool enabled_ = false;
   double fraction_ = 0.05, residual_ = 0.2, cooling_fraction_ = 0.1;
+  double reconsolidation_fraction_ = 0.9;
   std::map<std::size_t, Point> points_;
 };
 

@@ -276,6 +276,42 @@ TEST(DemPrepare, LooseAndDensePackingsAndTheTransientsFromThem) {
     EXPECT_LT(stopped.get("transient.cooling_time"), 0.03);
   }
   {
+    SCOPED_TRACE("a drained stop: sheared in water, the loose packing reconsolidates under p0");
+    ASSERT_EQ(loose_status_, 0) << loose_log_;
+    ASSERT_EQ(run_cli("run shear.yaml --out loose_drained --set start.preparation=loose "
+                      "--set liquid.enabled=true --set liquid.viscosity=1e-3 "
+                      "--set stop.duration=0.04 --set stop.drainage_length=0.01",
+                      dir_),
+              0)
+        << read(dir_ / "cli.txt");
+    const Summary s = Summary::read(dir_ / "loose_drained" / "summary.json");
+    const auto h5 = dir_ / "loose_drained" / "result.h5";
+    const auto sigma =
+        granflow::core::read_dataset(h5, "/transient/group_0/stop/normal_stress_mean");
+    const auto phi = granflow::core::read_dataset(h5, "/transient/group_0/stop/solid_fraction_mean");
+    ASSERT_EQ(sigma.size(), 40u);
+    // The liquefied packing (p' < 5 % p0) carries no load at the stop; under σ_n = p0 it compacts
+    // while the water drains until its skeleton carries σ_n again (1000 spheres: φ 0.577 -> 0.587,
+    // σ_yy = 0.9 σ_n after 17 ms; 250 spheres: φ up by 0.0085, 0.9 σ_n after 17.6 ms): φ up by
+    // > 0.003, back to 0.9 σ_n within the 40 ms, and the last 5 ms at σ_n within 10 % (σ_yy of
+    // the sample fluctuates by a few %).
+    EXPECT_EQ(s.get("transient.liquefied"), 1.0);
+    EXPECT_GT(s.get("transient.stop_phi_change"), 0.003);
+    EXPECT_GT(s.get("transient.reconsolidation_time"), 0.0);
+    EXPECT_LT(s.get("transient.reconsolidation_time"), 0.04);
+    double last = 0.0;
+    for (std::size_t i = sigma.size() - 5; i < sigma.size(); ++i) last += sigma[i] / 5.0;
+    EXPECT_NEAR(last, s.get("transient.p0"), 0.1 * s.get("transient.p0"));
+    EXPECT_GT(phi.back(), phi.front());
+    // A dry sample has nothing to drain: one line and exit 2.
+    EXPECT_EQ(run_cli("run shear.yaml --out x --set start.preparation=loose --set "
+                      "stop.duration=0.01 --set stop.drainage_length=0.01",
+                      dir_),
+              granflow::core::exit_bad_input);
+    const std::string out = read(dir_ / "cli.txt");
+    EXPECT_NE(out.find("stop.drainage_length"), std::string::npos) << out;
+  }
+  {
     SCOPED_TRACE("a bad preparation reference is one line and exit 2");
     ASSERT_EQ(dense_status_, 0) << dense_log_;
     // Missing directory.

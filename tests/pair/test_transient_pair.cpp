@@ -199,6 +199,71 @@ TEST(TransientPair, LoosePackingInTheDemAndTheContinuum) {
   }
 }
 
+// The drained stop on both sides: the loose packing sheared in water, then 30 ms under σ_n = p0
+// draining over 1 cm (the DEM's fix drainage, the REV's run_drained_stop, the same lumped Darcy
+// law with the liquid's permeability closure). η(ν) diverges at the case's ν_c here, not at
+// Boyer's 0.585, which the DEM passes (docs/transient_pairs.md).
+TEST(TransientPair, DrainedStopReconsolidatesBothSides) {
+  const auto dir = std::filesystem::path(GRANFLOW_BINARY_DIR) / "test_transient_pair_drained";
+  std::filesystem::remove_all(dir);
+  core::KindRegistry registry;
+  dem::register_dem_kinds(registry);
+  const auto& prepare = registry.find("dem_prepare", "", "prep.yaml");
+  {
+    const auto c = core::Case::parse(preparation, "prep.yaml", {}, prepare.schema);
+    core::RunContext ctx(c, dir / "prep", true, true);
+    ASSERT_EQ(prepare.run(ctx), core::exit_ok);
+    ctx.finish();
+  }
+  const auto schema = transient_pair_schema();
+  const auto c = core::Case::parse(
+      pair_case(dir / "prep"), "tiny.yaml",
+      {"liquid.enabled=true", "liquid.viscosity=1e-3", "liquid.maximum_packing=0.59",
+       "stop.duration=0.03", "stop.drainage_length=0.01"},
+      schema);
+  check_transient_pair_case(c);
+  {
+    core::RunContext ctx(c, dir / "run", true, true);
+    ASSERT_EQ(run_transient_pair_case(ctx), core::exit_ok);
+    ctx.finish();
+  }
+  const auto s = core::Summary::read(dir / "run" / "summary.json");
+  const auto h5 = dir / "run" / "result.h5";
+  const double p0 = s.get("transient.p0");
+  // Both sides compact (φ up) and carry σ_n = p0 again; the DEM measured at 250 spheres: φ up
+  // 0.0085, 0.9 σ_n after 17.6 ms (tests/dem/test_prepare.cpp).
+  for (const char* side : {"dem", "cont"}) {
+    const std::string key = std::string("transient.") + side + ".";
+    EXPECT_GT(s.get(key + "stop_phi_change"), 0.002) << side;
+    EXPECT_GT(s.get(key + "reconsolidation_time"), 0.0) << side;
+    EXPECT_LT(s.get(key + "reconsolidation_time"), 0.03) << side;
+  }
+  EXPECT_TRUE(s.contains("transient.rel_err.reconsolidation_time"));
+  const auto phi = core::read_dataset(h5, "/transient_pair/group_0/stop/solid_fraction");
+  const auto sigma = core::read_dataset(h5, "/transient_pair/group_0/stop/normal_stress");
+  ASSERT_FALSE(phi.empty());
+  EXPECT_GT(phi.back(), s.get("transient.phi0"));
+  // the continuum solves σ_yy + u = σ_n with u = ε̇_yy/k the excess pore pressure, which drains
+  // away: at the end σ_yy is past the 0.9 σ_n of the metric and not above σ_n (measured 0.92)
+  EXPECT_GE(sigma.back(), 0.9 * p0);
+  EXPECT_LE(sigma.back(), p0 * (1.0 + 1e-3));
+  // the DEM's stop band is the DEM run's own, φ included
+  EXPECT_EQ(core::read_dataset(h5, "/transient_pair/group_0/dem/stop/solid_fraction_mean"),
+            core::read_dataset(dir / "run" / "dem" / "result.h5",
+                               "/transient/group_0/stop/solid_fraction_mean"));
+  // every dataset of the drained pair is documented (tests/cli/check_results_reader.py)
+  core::ProcessOptions options;
+  options.output = dir / "reader.log";
+  const std::filesystem::path source = GRANFLOW_SOURCE_DIR;
+  const auto r = core::run_process(
+      {"/usr/bin/python3", (source / "tests/cli/check_results_reader.py").string(),
+       (dir / "run" / "dem").string(), "dem", (dir / "run").string(), "transient_pair"},
+      options);
+  std::ifstream log(dir / "reader.log");
+  const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(r.status, 0) << text;
+}
+
 // The known continuum result behind the pair: constant-volume simple shear liquefies a loose
 // sample and not a dense one. With the quasi-static line e_cs = e_Γ − λ_c p/p_ref (e_Γ 0.71,
 // λ_c 0.01) the skeleton at constant e0 heads for its critical pressure p_cs(e0) = p_ref (e_Γ −
