@@ -152,6 +152,14 @@ void compare_stop(core::RunContext& ctx, const core::Case& condition, const DemT
   for (const auto& [column, values] : series)
     ctx.result.write(group + "/stop/" + column.name + suffix, values, column.unit,
                      model + ": " + column.description);
+  if (failure && drained && condition.boolean("liquid.enabled") &&
+      condition.number("liquid.maximum_packing") < condition.number("collisional.jamming_fraction"))
+    ctx.log->warn(
+        "  the drained stop compacts towards liquid.maximum_packing = {:g}, where η(ν) diverges, "
+        "below collisional.jamming_fraction = {:g}; a packing the DEM compacts past it cannot "
+        "follow (docs/transient_pairs.md, \"Drained reconsolidation\")",
+        condition.number("liquid.maximum_packing"),
+        condition.number("collisional.jamming_fraction"));
   if (failure) throw *failure;
   const auto dem_m = dem::stop_metrics(dem.stop_time, dem.stop_T_mean, dem.stop_p_mean,
                                        dem::residual_mean(dem.strain, dem.T_mean, limits.residual),
