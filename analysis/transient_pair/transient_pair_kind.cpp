@@ -120,6 +120,17 @@ void write_metrics(core::RunContext& ctx, std::span<const MetricPair> metrics,
   }
 }
 
+// A time metric of both sides (-1: never reached): transient.rel_err{suffix}.NAME when both reached
+// it, and "T_DEM (DEM) and T_cont (continuum), ratio R" for the log.
+std::string compare_times(core::Summary& sum, const char* name, double dem_time, double cont_time,
+                          const std::string& suffix, const std::string& g) {
+  const auto text = [](double t) { return t > 0 ? fmt::format("{:.4g} s", t) : "never"; };
+  const bool both = dem_time > 0 && cont_time > 0;
+  if (both) sum.set(metric_key("rel_err" + suffix, name, g), relative_error(cont_time, dem_time));
+  return fmt::format("{} (DEM) and {} (continuum){}", text(dem_time), text(cont_time),
+                     both ? fmt::format(", ratio {:.3g}", cont_time / dem_time) : "");
+}
+
 // The shear stopped (stop.duration > 0): the continuum's stop stage from the end of `rev`, its
 // series under group/stop/NAME{suffix}, the cooling metrics of both sides (transient.dem.NAME,
 // transient.cont{suffix}.NAME, transient.rel_err{suffix}.cooling_time); with a drained stop also
@@ -177,17 +188,11 @@ void compare_stop(core::RunContext& ctx, const core::Case& condition, const DemT
       {"stop_p_over_p0", {dem_m.final_p_over_p0, cont_m.final_p_over_p0}},
   };
   write_metrics(ctx, metrics, dem, group, g, suffix);
-  const bool both = dem_m.cooling_time > 0 && cont_m.cooling_time > 0;
-  if (both)
-    sum.set(metric_key("rel_err" + suffix, "cooling_time", g),
-            relative_error(cont_m.cooling_time, dem_m.cooling_time));
   ctx.log->info(
-      "  shear stopped: T below {:g} × the flowing T after {} (DEM) and {} (continuum){}; p' at "
-      "the end {:.3g} p0 (DEM), {:.3g} p0 (continuum)",
+      "  shear stopped: T below {:g} × the flowing T after {}; p' at the end {:.3g} p0 (DEM), "
+      "{:.3g} p0 (continuum)",
       limits.cooling,
-      dem_m.cooling_time > 0 ? fmt::format("{:.4g} s", dem_m.cooling_time) : "never",
-      cont_m.cooling_time > 0 ? fmt::format("{:.4g} s", cont_m.cooling_time) : "never",
-      both ? fmt::format(", ratio {:.3g}", cont_m.cooling_time / dem_m.cooling_time) : "",
+      compare_times(sum, "cooling_time", dem_m.cooling_time, cont_m.cooling_time, suffix, g),
       dem_m.final_p_over_p0, cont_m.final_p_over_p0);
   if (!drained) return;
   const double normal_stress =
@@ -204,22 +209,12 @@ void compare_stop(core::RunContext& ctx, const core::Case& condition, const DemT
   };
   write_metrics(ctx, drained_metrics, dem, group, g, suffix);
   ctx.result.attribute(group, "stop_normal_stress", normal_stress);
-  const bool both_reconsolidated =
-      dem_d.reconsolidation_time > 0 && cont_d.reconsolidation_time > 0;
-  if (both_reconsolidated)
-    sum.set(metric_key("rel_err" + suffix, "reconsolidation_time", g),
-            relative_error(cont_d.reconsolidation_time, dem_d.reconsolidation_time));
   ctx.log->info(
-      "  drained under σ_n = {:.4g} Pa: σ_yy reached {:g} σ_n after {} (DEM) and {} "
-      "(continuum){}; φ {:.4f} -> {:.4f} (DEM), {:.4f} (continuum)",
+      "  drained under σ_n = {:.4g} Pa: σ_yy reached {:g} σ_n after {}; φ {:.4f} -> {:.4f} (DEM), "
+      "{:.4f} (continuum)",
       normal_stress, limits.reconsolidation,
-      dem_d.reconsolidation_time > 0 ? fmt::format("{:.4g} s", dem_d.reconsolidation_time)
-                                     : "never",
-      cont_d.reconsolidation_time > 0 ? fmt::format("{:.4g} s", cont_d.reconsolidation_time)
-                                      : "never",
-      both_reconsolidated
-          ? fmt::format(", ratio {:.3g}", cont_d.reconsolidation_time / dem_d.reconsolidation_time)
-          : "",
+      compare_times(sum, "reconsolidation_time", dem_d.reconsolidation_time,
+                    cont_d.reconsolidation_time, suffix, g),
       dem.phi0, dem_d.final_solid_fraction, cont_d.final_solid_fraction);
 }
 

@@ -228,20 +228,23 @@ void TransientShear::absorb(core::RunContext& ctx, std::size_t n, const std::fil
   point.phi0 = s.phi;
   point.metrics = transient_metrics(point.strain, p_eff, point.band[1], s.p, fraction_, residual_);
   const TransientMetrics& m = point.metrics;
+  // transient.NAME{suffix} in summary.json and transient_NAME on the point's series
+  const auto publish = [&](std::initializer_list<std::pair<const char*, double>> values) {
+    for (const auto& [name, value] : values) {
+      ctx.summary.set(fmt::format("transient.{}{}", name, suffix), value);
+      ctx.result.attribute(group + "/series", std::string("transient_") + name, value);
+    }
+  };
   if (!point.stop_time.empty()) {
     constexpr std::size_t p_row = 0, T_row = 3;  // transient_band: p', τ, σ_yy, T, ...
     point.stop = stop_metrics(point.stop_time, point.stop_band[T_row], point.stop_band[p_row],
                               residual_mean(point.strain, point.band[T_row], residual_), s.p,
                               cooling_fraction_);
     const StopMetrics& q = point.stop;
-    for (const auto& [name, value] : std::initializer_list<std::pair<const char*, double>>{
-             {"flowing_T", q.flowing_temperature},
+    publish({{"flowing_T", q.flowing_temperature},
              {"cooling_time", q.cooling_time},
              {"stop_T_over_flowing_T", q.final_temperature_ratio},
-             {"stop_p_over_p0", q.final_p_over_p0}}) {
-      ctx.summary.set(fmt::format("transient.{}{}", name, suffix), value);
-      ctx.result.attribute(group + "/series", std::string("transient_") + name, value);
-    }
+             {"stop_p_over_p0", q.final_p_over_p0}});
     ctx.log->info(
         "point {}: shear stopped for {:.4g} s: T fell below {:g} × the flowing T ({:.4g} m²/s²) "
         "{}; at the end T = {:.3g} × flowing, p' = {:.3g} p0",
@@ -255,13 +258,9 @@ void TransientShear::absorb(core::RunContext& ctx, std::size_t n, const std::fil
           point.stop_time, point.stop_band[sigma_row], point.stop_band[phi_row],
           point.band[phi_row].back(), p.stop_normal_stress, reconsolidation_fraction_);
       const DrainedStopMetrics& d = point.drained_stop;
-      for (const auto& [name, value] : std::initializer_list<std::pair<const char*, double>>{
-               {"reconsolidation_time", d.reconsolidation_time},
+      publish({{"reconsolidation_time", d.reconsolidation_time},
                {"stop_phi", d.final_solid_fraction},
-               {"stop_phi_change", d.solid_fraction_change}}) {
-        ctx.summary.set(fmt::format("transient.{}{}", name, suffix), value);
-        ctx.result.attribute(group + "/series", std::string("transient_") + name, value);
-      }
+               {"stop_phi_change", d.solid_fraction_change}});
       ctx.log->info(
           "point {}: drained over {:g} m under σ_n = {:.4g} Pa: σ_yy reached {:g} σ_n {}; φ "
           "{:.4f} -> {:.4f}",
@@ -271,7 +270,7 @@ void TransientShear::absorb(core::RunContext& ctx, std::size_t n, const std::fil
           point.band[phi_row].back(), d.final_solid_fraction);
     }
   }
-  const std::pair<const char*, double> values[] = {
+  publish({
       {"p0", s.p},
       {"phi0", s.phi},
       {"first_p_over_p0", p_eff.front() / s.p},
@@ -283,11 +282,7 @@ void TransientShear::absorb(core::RunContext& ctx, std::size_t n, const std::fil
       {"residual_p", m.residual_p},
       {"residual_p_err", m.residual_p_err},
       {"p_final_over_p0", m.p_final_over_p0},
-  };
-  for (const auto& [name, value] : values) {
-    ctx.summary.set(fmt::format("transient.{}{}", name, suffix), value);
-    ctx.result.attribute(group + "/series", std::string("transient_") + name, value);
-  }
+  });
   if (m.liquefaction_strain >= 0.0)
     ctx.summary.set(fmt::format("transient.liquefaction_strain{}", suffix), m.liquefaction_strain);
   ctx.log->info(

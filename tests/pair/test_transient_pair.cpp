@@ -85,18 +85,21 @@ stop:
                      e_gamma, lambda_c, p_ref, prepared.string());
 }
 
-TEST(TransientPair, LoosePackingInTheDemAndTheContinuum) {
-  const auto dir = std::filesystem::path(GRANFLOW_BINARY_DIR) / "test_transient_pair";
-  std::filesystem::remove_all(dir);
+// The 250-sphere loose packing of `preparation` in DIR (a kind: dem_prepare run).
+void prepare_packing(const std::filesystem::path& dir) {
   core::KindRegistry registry;
   dem::register_dem_kinds(registry);
   const auto& prepare = registry.find("dem_prepare", "", "prep.yaml");
-  {
-    const auto c = core::Case::parse(preparation, "prep.yaml", {}, prepare.schema);
-    core::RunContext ctx(c, dir / "prep", true, true);
-    ASSERT_EQ(prepare.run(ctx), core::exit_ok);
-    ctx.finish();
-  }
+  const auto c = core::Case::parse(preparation, "prep.yaml", {}, prepare.schema);
+  core::RunContext ctx(c, dir, true, true);
+  ASSERT_EQ(prepare.run(ctx), core::exit_ok);
+  ctx.finish();
+}
+
+TEST(TransientPair, LoosePackingInTheDemAndTheContinuum) {
+  const auto dir = std::filesystem::path(GRANFLOW_BINARY_DIR) / "test_transient_pair";
+  std::filesystem::remove_all(dir);
+  ASSERT_NO_FATAL_FAILURE(prepare_packing(dir / "prep"));
   const auto schema = transient_pair_schema();
   const auto c = core::Case::parse(pair_case(dir / "prep"), "tiny.yaml", {}, schema);
   check_transient_pair_case(c);
@@ -206,15 +209,7 @@ TEST(TransientPair, LoosePackingInTheDemAndTheContinuum) {
 TEST(TransientPair, DrainedStopReconsolidatesBothSides) {
   const auto dir = std::filesystem::path(GRANFLOW_BINARY_DIR) / "test_transient_pair_drained";
   std::filesystem::remove_all(dir);
-  core::KindRegistry registry;
-  dem::register_dem_kinds(registry);
-  const auto& prepare = registry.find("dem_prepare", "", "prep.yaml");
-  {
-    const auto c = core::Case::parse(preparation, "prep.yaml", {}, prepare.schema);
-    core::RunContext ctx(c, dir / "prep", true, true);
-    ASSERT_EQ(prepare.run(ctx), core::exit_ok);
-    ctx.finish();
-  }
+  ASSERT_NO_FATAL_FAILURE(prepare_packing(dir / "prep"));
   const auto schema = transient_pair_schema();
   const auto c = core::Case::parse(
       pair_case(dir / "prep"), "tiny.yaml",
