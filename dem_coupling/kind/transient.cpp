@@ -254,6 +254,7 @@ void TransientShear::absorb(core::RunContext& ctx, std::size_t n, const std::fil
     if (p.stop_drainage_length > 0.0) {
       constexpr std::size_t sigma_row = 2, phi_row = 6;  // transient_band: σ_yy, φ
       point.drained = true;
+      point.stop_normal_stress = p.stop_normal_stress;
       point.drained_stop = drained_stop_metrics(
           point.stop_time, point.stop_band[sigma_row], point.stop_band[phi_row],
           point.band[phi_row].back(), p.stop_normal_stress, reconsolidation_fraction_);
@@ -349,9 +350,13 @@ void TransientShear::finish(core::RunContext& ctx, const std::vector<Condition>&
                        core::columns::time.unit, "time since the shear was stopped");
       write_band(ctx, group + "/stop/", members, stop_rows, &Point::stop_band, ", shear stopped");
       ctx.result.attribute(group + "/stop", "cooling_fraction", cooling_fraction_);
-      if (members.front()->drained)
+      if (members.front()->drained) {
         ctx.result.attribute(group + "/stop", "reconsolidation_fraction",
                              reconsolidation_fraction_);
+        double sigma_n = 0.0;  // the members' mean (each seed's own prepared p0 by default)
+        for (const Point* m : members) sigma_n += m->stop_normal_stress / double(members.size());
+        ctx.result.attribute(group + "/stop", "normal_stress", sigma_n);
+      }
     }
     // Metrics: mean over the seeds and its standard error (between-seed sd / sqrt(N)).
     auto stats = [&](auto get, const char* name) {

@@ -109,7 +109,8 @@ class TransientShear {
     std::vector<double> stop_time;               // since the stop (empty: no stop stage)
     std::vector<std::vector<double>> stop_band;  // as band, over the stop's rows
     StopMetrics stop;
-    bool drained = false;  // the stop compacted under stop.normal_stress (drainage)
+    bool drained = false;           // the stop compacted under stop.normal_stress (drainage)
+    double stop_normal_stress = 0;  // σ_n of a drained stop, Pa
     DrainedStopMetrics drained_stop;
   };
   // The seed mean, lowest and highest seed of each dem_columns::transient_band column, row by
