@@ -64,7 +64,6 @@ void run_drained_stop(const continuum::MultiRegimePoint& point, continuum::Point
   const auto& liquid = settings.liquid_parameters;
   const ShearStopControl& stop = control.stop;
   const double largest = stop.largest_step_fraction * stop.duration;
-  const double tolerance = 1e-6;                  // |σ_yy + u - σ_n| <= 1e-6 σ_n
   double time = 0.0, guess = 0.0, previous_dt = 0.0;
   double modulus = 0.0;  // M = dσ_yy/dε_yy of the last step
   double sigma_yy =
@@ -79,7 +78,9 @@ void run_drained_stop(const continuum::MultiRegimePoint& point, continuum::Point
         std::max(std::abs(start.temperature_equation.c + 2.0 * start.temperature_equation.b * s),
                  k * modulus);
     double dt = rate > 0.0 ? stop.time_step_factor / rate : largest;
-    dt = std::min(dt, largest);
+    // at least smallest_step_fraction × duration: backward Euler in u is stable at any step, and
+    // a stiff point (ν near ν_c) would otherwise take millions of steps
+    dt = std::clamp(dt, control.smallest_step_fraction * stop.duration, largest);
     // The last step ends on the duration; a remainder below 1e-3 Δt joins this step (a sliver
     // of a step would make the drainage resistance 1/(k Δt) huge for nothing).
     const bool last = stop.duration - time < 1.001 * dt;
@@ -88,8 +89,9 @@ void run_drained_stop(const continuum::MultiRegimePoint& point, continuum::Point
     // First trial: the last step's compaction rate over this step (u = ε̇/k carries over).
     if (previous_dt > 0.0) guess *= dt / previous_dt;
     previous_dt = dt;
-    const NormalStressStep next = advance_at_normal_stress(
-        point, state, 0.0, dt, control.normal_stress, guess, tolerance, step, 8, 1.0 / k);
+    const NormalStressStep next =
+        advance_at_normal_stress(point, state, 0.0, dt, control.normal_stress, guess,
+                                 control.relative_tolerance, step, control.max_splits, 1.0 / k);
     const double sigma_next = next.parts.total_without_pore_pressure()(1, 1);
     if (next.vertical_strain != 0.0)
       modulus = std::max(0.0, (sigma_next - sigma_yy) / next.vertical_strain);

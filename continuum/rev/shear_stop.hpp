@@ -39,12 +39,19 @@ void run_shear_stop(const continuum::MultiRegimePoint& point, continuum::PointSt
 // as fast as the liquid leaves; compaction regrows r_c (docs/model/force_chains.md) and heats it
 // (p_COL ε̇_v in the T balance). Steps: Δt <= time_step_factor / rate with rate the larger of the
 // cooling rate of s and k M (M = dσ_yy/dε_yy of the last step, the consolidation rate), and
-// <= largest_step_fraction × duration. Appends rows as run_shear_stop, with vertical_strain_rate
-// ε̇_yy. Throws core::NumericalFailure (step, variable) when no compaction carries σ_n.
+// <= largest_step_fraction × duration, >= smallest_step_fraction × duration. Appends rows as
+// run_shear_stop, with vertical_strain_rate ε̇_yy. Throws core::NumericalFailure (step, variable)
+// when no compaction carries σ_n.
 struct DrainedStopControl {
   ShearStopControl stop;
-  double normal_stress = 100.0;   // σ_n, Pa
-  double drainage_length = 0.01;  // H, m
+  double normal_stress = 100.0;          // σ_n, Pa
+  double drainage_length = 0.01;         // H, m
+  double smallest_step_fraction = 1e-4;  // Δt >= this × duration (at most ~1e4 steps)
+  // |σ_yy + u − σ_n| <= this × σ_n per step; a step that misses it is halved up to max_splits
+  // times (advance_at_normal_stress: the force chains' sub-stepping makes σ_yy(Δε) jump by
+  // ~STOL |Δσ_FC|, 1e-5 × 60 Pa here, where no root meets a tighter tolerance)
+  double relative_tolerance = 1e-5;
+  int max_splits = 3;
 };
 
 void run_drained_stop(const continuum::MultiRegimePoint& point, continuum::PointState state,
