@@ -38,7 +38,11 @@ class DilatancyStateDependent {
 
   // a_v = d_0 (M_d(ψ) - η̃): D = a_v/η̃, and the isotropic part of m before normalisation is a_v I/3.
   double volumetric_coefficient(double normalized_ratio, double state_parameter) const {
-    return d_0_ * (dilatancy_ratio(state_parameter) - normalized_ratio);
+    return volumetric_coefficient_at(dilatancy_ratio(state_parameter), normalized_ratio);
+  }
+  // The same with M_d = dilatancy_ratio(ψ) known to the caller.
+  double volumetric_coefficient_at(double dilatancy_ratio, double normalized_ratio) const {
+    return d_0_ * (dilatancy_ratio - normalized_ratio);
   }
 
   // Unit flow direction m given the yield gradient and the state.

@@ -93,30 +93,36 @@ ForceChainModel::PlasticRates ForceChainModel::plastic_rates(const Point& y,
   const YieldFunctionDiPrisco::Gradients g = yield_.gradients(l, y.stress, y.chi);
   const double p = kThird * y.stress.trace();
   const SymTensor s = deviator(y.stress);
+  // ψ and M_d = M_c exp(n_d ψ) first: their pow and exp depend on p and e only and run beside
+  // the chain of cos 3θ and η̃ below
+  const double psi = critical_.state_parameter(y.void_ratio, p);
+  const double m_d = dilatancy_.dilatancy_ratio(psi);
   // invariants of s once: s:s, q = sqrt(3/2 s:s), |s| = sqrt(2/3) q, and cos 3θ =
-  // (3√3/2) J3/J2^{3/2} = 9 J3/(s:s q) with J2 = s:s/2 (stress_invariants.hpp); 1/(s:s q) also
-  // gives 1/|s| = sqrt(3/2) s:s/(s:s q)
+  // (3√3/2) J3/J2^{3/2} = 9 J3/(s:s q) = 6 J3 q/(s:s)² with J2 = s:s/2 and q² = (3/2) s:s
+  // (stress_invariants.hpp; the division beside the square root); 1/(s:s)² also gives
+  // 1/|s| = sqrt(3/2)/q = sqrt(2/3) q s:s/(s:s)²
   const double ss = double_contraction(s, s);
   const double q = std::sqrt(1.5 * ss);
-  const double inv_ss_q = ss > 0.0 ? 1.0 / (ss * q) : 0.0;
-  const double c3 = ss > 0.0 ? std::clamp(9.0 * determinant(s) * inv_ss_q, -1.0, 1.0) : 1.0;
+  const double inv_ss2 = ss > 0.0 ? 1.0 / (ss * ss) : 0.0;
+  const double c3 = ss > 0.0 ? std::clamp(6.0 * determinant(s) * q * inv_ss2, -1.0, 1.0) : 1.0;
   const double normalized_ratio = critical_.normalized_stress_ratio_q(p, q, c3);
-  const double psi = critical_.state_parameter(y.void_ratio, p);
   PlasticRates r;
   r.n = g.d_stress;
   // m = (α I + β n_dev)/|m|, α = d_0 (M_d - η̃)/3, β |n_dev| = η̃ sqrt(3/2) (dilatancy header):
   // n_dev is traceless, so |m|² = 3α² + (3/2) η̃², tr m = 3α/|m| and ε_q(m) = η̃/|m|
   const SymTensor n_dev = deviator(g.d_stress);
-  const double norm_dev = norm(n_dev);
-  const double alpha = kThird * dilatancy_.volumetric_coefficient(normalized_ratio, psi);
-  const double beta_norm = norm_dev > 0.0 ? normalized_ratio * kSqrtThreeHalves : 0.0;  // β|n_dev|
-  const double m_norm = std::sqrt(3.0 * alpha * alpha + beta_norm * beta_norm);
+  const double nn = double_contraction(n_dev, n_dev);
+  const double norm_dev = std::sqrt(nn);
+  const double alpha = kThird * dilatancy_.volumetric_coefficient_at(m_d, normalized_ratio);
+  const double beta_norm = nn > 0.0 ? normalized_ratio * kSqrtThreeHalves : 0.0;  // β|n_dev|
+  const double m_norm2 = 3.0 * alpha * alpha + beta_norm * beta_norm;             // |m|²
   double m_trace = std::sqrt(3.0), m_shear = 0.0;  // tr m, ε_q(m); m = I/√3 if m = 0
   double m_dev = 0.0;                              // m = (tr m / 3) I + m_dev n_dev
-  if (m_norm > 0.0) {
-    // 1/|m| and β/(|m| |n_dev|) from one division
-    const double inv = 1.0 / (norm_dev > 0.0 ? m_norm * norm_dev : m_norm);
-    const double inv_m = norm_dev > 0.0 ? norm_dev * inv : inv;
+  if (m_norm2 > 0.0) {
+    // 1/(|m| |n_dev|) = sqrt(x)/x, x = |m|² |n_dev|² (square root and division side by side)
+    const double x = nn > 0.0 ? m_norm2 * nn : m_norm2;
+    const double inv = std::sqrt(x) / x;
+    const double inv_m = nn > 0.0 ? norm_dev * inv : inv;
     m_dev = beta_norm * inv;
     m_trace = 3.0 * alpha * inv_m;
     m_shear = kSqrtTwoThirds * beta_norm * inv_m;  // sqrt(2/3) |dev m|
@@ -141,7 +147,7 @@ ForceChainModel::PlasticRates ForceChainModel::plastic_rates(const Point& y,
     }
     // χ̂ = cos θ̂ I/√3 + sin θ̂ s/|s|
     chi_target =
-        (sin_theta * kSqrtThreeHalves * ss * inv_ss_q * s).add_identity(cos_theta * kInvSqrt3);
+        (sin_theta * kSqrtTwoThirds * q * ss * inv_ss2 * s).add_identity(cos_theta * kInvSqrt3);
   }
   r.chi_rate = par_.c_p * (chi_target - y.chi);
   r.chi_rate -= double_contraction(r.chi_rate, y.chi) * y.chi;
