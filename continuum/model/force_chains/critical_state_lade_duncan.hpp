@@ -127,6 +127,11 @@ class CriticalStateLadeDuncan {
   double state_parameter(double void_ratio, double p) const {
     return std::clamp(void_ratio, e_min_, e_max_) - critical_void_ratio(p);
   }
+  // ψ from (max(p, 0))^ξ_c known to the caller; ξ_c
+  double state_parameter_from_power(double void_ratio, double p_power) const {
+    return std::clamp(void_ratio, e_min_, e_max_) - (e_gamma_ - lambda_scaled_ * p_power);
+  }
+  double pressure_exponent() const { return xi_c_; }
 
  private:
   static constexpr int kIntervals = 128;

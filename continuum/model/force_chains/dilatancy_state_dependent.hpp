@@ -28,7 +28,11 @@ class DilatancyStateDependent {
 
   // Dilatancy stress ratio M_d(ψ).
   double dilatancy_ratio(double state_parameter) const {
-    return m_c_ * std::exp(std::clamp(n_d_ * state_parameter, -20.0, 20.0));
+    return m_c_ * std::exp(ratio_exponent(state_parameter));
+  }
+  // x = n_d ψ clamped to ±20: M_d = M_c exp(x)
+  double ratio_exponent(double state_parameter) const {
+    return std::clamp(n_d_ * state_parameter, -20.0, 20.0);
   }
   // D(η̃, ψ); +inf-like on the isotropic axis (returns a large number there).
   double dilatancy(double normalized_ratio, double state_parameter) const {

@@ -32,7 +32,56 @@ ForceChainModel::ForceChainModel(ForceChainParameters parameters)
       constant_theta_hat_(par_.theta_hat_c == par_.theta_hat_e),
       cos_theta_hat_(std::cos(par_.theta_hat_e)),
       sin_theta_hat_(std::sin(par_.theta_hat_e)),
-      inv_b_p_(1.0 / par_.b_p) {}
+      inv_b_p_(1.0 / par_.b_p) {
+  // C(ξ, k) = ξ (ξ-1) ... (ξ-k+1)/k!, k = 1..8, and the range of δ in which the first term left
+  // out, |C(ξ, 9)| |δ|⁹, stays below 1e-17 (a tenth of the round-off of p^ξ; 1e-2 for ξ_c = 0.7,
+  // where |C(0.7, 9)| = 0.006)
+  double c = 1.0;
+  for (int k = 1; k <= 9; ++k) {
+    c *= (par_.xi_c - (k - 1)) / k;
+    if (k <= 8) binomial_[k - 1] = c;
+  }
+  power_series_range_ = c == 0.0 ? 1e-2 : std::min(1e-2, std::pow(1e-17 / std::abs(c), 1.0 / 9.0));
+}
+
+void ForceChainModel::dilatancy_terms(double p, double void_ratio, Anchor* anchor, double& psi,
+                                      double& m_d) const {
+  // Taylor series about the anchor's p0 and x0 (set by the last direct pow resp. exp of this
+  // integration), truncated below round-off:
+  //   p^ξ = p0^ξ (1 + δ)^ξ = p0^ξ (1 + Σ_{k<=8} C(ξ, k) δ^k),  δ = p/p0 - 1, |δ| <= range
+  //   M_c exp(x) = M_d0 exp(Δx) = M_d0 Σ_{k<=4} Δx^k/k!,     Δx = x - x0, |Δx| <= 1e-3
+  // (the first exp term left out, Δx⁵/120 <= 1e-17)
+  const double pp = std::max(p, 0.0);
+  double p_power;
+  const double d = anchor && anchor->p_set ? pp * anchor->inv_p - 1.0 : 1.0;
+  if (std::abs(d) <= power_series_range_) {
+    const double* b = binomial_;  // Estrin's scheme: four independent pairs
+    const double d2 = d * d, d4 = d2 * d2;
+    const double low = (b[0] + b[1] * d) * d + (b[2] + b[3] * d) * d * d2;
+    const double high = (b[4] + b[5] * d) + (b[6] + b[7] * d) * d2;
+    p_power = anchor->p_power * (1.0 + (low + high * d * d4));
+  } else {
+    p_power = std::pow(pp, critical_.pressure_exponent());
+    if (anchor && pp > 0.0) {
+      anchor->p_set = true;
+      anchor->inv_p = 1.0 / pp;
+      anchor->p_power = p_power;
+    }
+  }
+  psi = critical_.state_parameter_from_power(void_ratio, p_power);
+  const double x = dilatancy_.ratio_exponent(psi);
+  const double dx = anchor && anchor->x_set ? x - anchor->x : 1.0;
+  if (std::abs(dx) <= 1e-3) {
+    m_d = anchor->m_d * (1.0 + dx * (1.0 + dx * (0.5 + dx * (1.0 / 6.0 + dx * (1.0 / 24.0)))));
+  } else {
+    m_d = par_.M_c * std::exp(x);
+    if (anchor) {
+      anchor->x_set = true;
+      anchor->x = x;
+      anchor->m_d = m_d;
+    }
+  }
+}
 
 double ForceChainModel::deviatoric_hardening(double psi) const {
   return -(psi > 0.0 ? par_.xi_psi : par_.xi_psi_dense) * psi;
@@ -87,16 +136,16 @@ Tensor ForceChainModel::flow_direction(const ForceChainState& state) const {
   return plastic_rates(y).m.matrix();
 }
 
-ForceChainModel::PlasticRates ForceChainModel::plastic_rates(const Point& y,
-                                                             const Locus* locus) const {
+ForceChainModel::PlasticRates ForceChainModel::plastic_rates(const Point& y, const Locus* locus,
+                                                             Anchor* anchor) const {
   const Locus l = locus ? *locus : yield_.locus(y.stress, y.chi);
   const YieldFunctionDiPrisco::Gradients g = yield_.gradients(l, y.stress, y.chi);
   const double p = kThird * y.stress.trace();
   const SymTensor s = deviator(y.stress);
   // ψ and M_d = M_c exp(n_d ψ) first: their pow and exp depend on p and e only and run beside
   // the chain of cos 3θ and η̃ below
-  const double psi = critical_.state_parameter(y.void_ratio, p);
-  const double m_d = dilatancy_.dilatancy_ratio(psi);
+  double psi, m_d;
+  dilatancy_terms(p, y.void_ratio, anchor, psi, m_d);
   // invariants of s once: s:s, q = sqrt(3/2 s:s), |s| = sqrt(2/3) q, and cos 3θ =
   // (3√3/2) J3/J2^{3/2} = 9 J3/(s:s q) = 6 J3 q/(s:s)² with J2 = s:s/2 and q² = (3/2) s:s
   // (stress_invariants.hpp; the division beside the square root); 1/(s:s)² also gives
@@ -180,7 +229,8 @@ ForceChainModel::Increment ForceChainModel::increment(const Point& y, const SymT
   return inc;
 }
 
-double ForceChainModel::correct_drift(Point& y, Locus& locus, bool& has_locus) const {
+double ForceChainModel::correct_drift(Point& y, Locus& locus, bool& has_locus,
+                                      Anchor& anchor) const {
   has_locus = false;
   if (!(y.r_c > 0.0) || !admissible(y.stress, y.chi, y.r_c))
     return safe_yield(y.stress, y.chi, y.r_c);
@@ -188,7 +238,7 @@ double ForceChainModel::correct_drift(Point& y, Locus& locus, bool& has_locus) c
   has_locus = true;
   double f0 = yield_.value(locus, y.r_c);
   for (int it = 0; it < 4 && std::abs(f0) > par_.yield_tolerance; ++it) {
-    const PlasticRates r = plastic_rates(y, &locus);
+    const PlasticRates r = plastic_rates(y, &locus, &anchor);
     // consistent correction: move σ, r_c, χ along the plastic flow (Sloan et al. 2001, §4)
     const double dlambda = f0 / r.denominator;
     Point c = y;
@@ -288,6 +338,7 @@ double ForceChainModel::integrate(Point& y, const SymTensor& strain, double volu
   // r, η, η·η of y: set by safe_yield and correct_drift, reused by plastic_rates(y)
   Locus locus_y;
   bool has_locus = false;
+  Anchor anchor;  // p^ξ_c and M_d of the last pow/exp, for the series of the later rates
   const double f0 = safe_yield(y.stress, y.chi, y.r_c, &locus_y);
   // from the stress-free state straight into tension: all contact loss
   if (norm(y.stress) <= kApexRatio * y.r_c && !admissible(trial, y.chi, y.r_c)) return 1.0;
@@ -296,7 +347,7 @@ double ForceChainModel::integrate(Point& y, const SymTensor& strain, double volu
   PlasticRates rates_y;
   bool rates_at_y = false;
   if (f0 > -par_.yield_tolerance && std::abs(f0) < kYieldClip) {
-    rates_y = plastic_rates(y, &locus_y);
+    rates_y = plastic_rates(y, &locus_y, &anchor);
     rates_at_y = true;
   }
   const double alpha = elastic_fraction(y, strain, f0, f_trial, rates_at_y ? &rates_y.n : nullptr);
@@ -340,7 +391,7 @@ double ForceChainModel::integrate(Point& y, const SymTensor& strain, double volu
     const double void_factor = std::expm1(-sub.trace());
     // the rates at y are the same for every attempt from y (rejected sub-steps retry from it)
     if (!rates_at_y) {
-      rates_y = plastic_rates(y, has_locus ? &locus_y : nullptr);
+      rates_y = plastic_rates(y, has_locus ? &locus_y : nullptr, &anchor);
       rates_at_y = true;
     }
     const Increment k1 = increment(y, sub, void_factor, rates_y);
@@ -350,7 +401,7 @@ double ForceChainModel::integrate(Point& y, const SymTensor& strain, double volu
     // r_c <= 0 inside the pair means the step overshot the collapse of the locus
     bool apex = at_apex(y1), overshoot = !(y1.r_c > 0.0);
     if (!apex && !overshoot) {
-      const Increment k2 = increment(y1, sub, void_factor, plastic_rates(y1));
+      const Increment k2 = increment(y1, sub, void_factor, plastic_rates(y1, nullptr, &anchor));
       next = add(y, k1, &k2, 0.5);
       apex = at_apex(next);
       overshoot = !(next.r_c > 0.0);
@@ -390,7 +441,7 @@ double ForceChainModel::integrate(Point& y, const SymTensor& strain, double volu
     ++info.substeps;
     info.plastic = true;
     if (y.r_c < par_.fluidization_size) return 0.0;  // fluidized: the caller clears σ
-    info.yield_value = correct_drift(y, locus_y, has_locus);
+    info.yield_value = correct_drift(y, locus_y, has_locus, anchor);
     if (!fixed) {
       double factor = error > 0.0 ? 0.9 * std::sqrt(stol / error) : 1.1;
       factor = std::clamp(factor, 0.1, last_failed ? 1.0 : 1.1);

@@ -97,20 +97,34 @@ class ForceChainModel {
     double bulk_modulus;  // K(p) at the point
   };
 
+  // p^ξ_c and M_d = M_c exp(x), x = n_d ψ, of the last direct pow resp. exp of an
+  // integration: the later plastic rates (sub-steps, drift correction), whose p and x differ
+  // little from these, take theirs from Taylor series about them (dilatancy_terms). The anchor
+  // is reset by every integrate(): the update still depends on the state and the increment
+  // only.
+  struct Anchor {
+    bool p_set = false, x_set = false;
+    double inv_p = 0.0, p_power = 0.0, x = 0.0, m_d = 0.0;
+  };
+
   static bool admissible(const SymTensor& stress, const SymTensor& chi, double r_c);
   // f clipped to ±kYieldClip (-kYieldClip at the stress-free origin, +kYieldClip in tension);
   // *locus (if given) receives r, η, η·η of the point when it is admissible (r_c > 0).
   double safe_yield(const SymTensor& stress, const SymTensor& chi, double r_c,
                     Locus* locus = nullptr) const;
-  // Rates at y; `locus` = yield_.locus(y.stress, y.chi) when the caller has it.
-  PlasticRates plastic_rates(const Point& y, const Locus* locus = nullptr) const;
+  // Rates at y; `locus` = yield_.locus(y.stress, y.chi) when the caller has it; `anchor` (if
+  // given) carries p^ξ_c and M_d from one call to the next.
+  PlasticRates plastic_rates(const Point& y, const Locus* locus = nullptr,
+                             Anchor* anchor = nullptr) const;
+  // ψ and M_d at (p, e), from the anchor's series when it is set and close enough
+  void dilatancy_terms(double p, double void_ratio, Anchor* anchor, double& psi, double& m_d) const;
   // Euler increment from y over `strain` with the plastic rates r = plastic_rates(y);
   // void_factor = expm1(-tr strain).
   Increment increment(const Point& y, const SymTensor& strain, double void_factor,
                       const PlasticRates& r) const;
   // Returns the final f; *locus receives the final point's r, η, η·η and *has_locus whether
   // they are set (the point admissible, r_c > 0).
-  double correct_drift(Point& y, Locus& locus, bool& has_locus) const;
+  double correct_drift(Point& y, Locus& locus, bool& has_locus, Anchor& anchor) const;
   // f0, f1: f at the start and at the end of the elastic trial (both known to the caller);
   // stress_gradient: ∂f/∂σ at y if the caller has it, else nullptr.
   double elastic_fraction(const Point& y, const SymTensor& strain, double f0, double f1,
@@ -130,6 +144,10 @@ class ForceChainModel {
   bool constant_theta_hat_;
   double cos_theta_hat_, sin_theta_hat_;
   double inv_b_p_;  // 1/b_p
+  // binomial coefficients of (1 + δ)^ξ_c = 1 + Σ_k binomial_[k-1] δ^k, k = 1..8, and the
+  // |δ| up to which that sum is p^ξ_c to round-off
+  double binomial_[8];
+  double power_series_range_;
 };
 
 }  // namespace granflow::model::force_chains
