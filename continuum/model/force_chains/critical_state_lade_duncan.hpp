@@ -25,12 +25,11 @@ class CriticalStateLadeDuncan {
       : m_c_(p.M_c),
         k_ld_(27.0 / (1.0 - p.M_c * p.M_c / 3.0 + 2.0 / 27.0 * p.M_c * p.M_c * p.M_c)),
         e_gamma_(p.e_Gamma),
-        lambda_c_(p.lambda_c),
         xi_c_(p.xi_c),
-        p_atm_(p.atmospheric_pressure),
         e_min_(p.e_min),
         e_max_(p.e_max),
-        target_(27.0 / k_ld_) {
+        target_(27.0 / k_ld_),
+        lambda_scaled_(p.lambda_c * std::pow(p.atmospheric_pressure, -p.xi_c)) {
     // the table of stress_ratio(): roots and their slopes times the interval width 2/kIntervals
     for (int i = 0; i <= kIntervals; ++i) {
       const double c = -1.0 + 2.0 * i / kIntervals;
@@ -52,11 +51,7 @@ class CriticalStateLadeDuncan {
   // safeguarded Newton iteration from M_c decides, as before.
   double stress_ratio(double cos3theta) const {
     const double c = std::clamp(cos3theta, -1.0, 1.0);
-    const double u = (c + 1.0) * (0.5 * kIntervals);
-    const int i = std::min(static_cast<int>(u), kIntervals - 1);
-    const double t = u - i, w = 1.0 - t;
-    const double eta = (1.0 + 2.0 * t) * w * w * root_[i] + t * w * w * slope_[i] +
-                       t * t * (3.0 - 2.0 * t) * root_[i + 1] - t * t * w * slope_[i + 1];
+    const double eta = tabulated_ratio(c);
     // (η²/3 and 27/k_LD as products: no division but the Newton step's)
     const double h = 1.0 - eta * eta * (1.0 / 3.0) + 2.0 / 27.0 * c * eta * eta * eta - target_;
     const double dh = -2.0 / 3.0 * eta + 2.0 / 9.0 * c * eta * eta;
@@ -65,6 +60,15 @@ class CriticalStateLadeDuncan {
       if (std::abs(next - eta) <= 1e-7 * eta) return next;
     }
     return stress_ratio_newton(c);
+  }
+
+  // The cubic Hermite interpolant of the table at c in [-1, 1].
+  double tabulated_ratio(double c) const {
+    const double u = (c + 1.0) * (0.5 * kIntervals);
+    const int i = std::min(static_cast<int>(u), kIntervals - 1);
+    const double t = u - i, w = 1.0 - t;
+    return (1.0 + 2.0 * t) * w * w * root_[i] + t * w * w * slope_[i] +
+           t * t * (3.0 - 2.0 * t) * root_[i + 1] - t * t * w * slope_[i + 1];
   }
 
   // The safeguarded Newton iteration on h(η) from η = M_c (c in [-1, 1]).
@@ -99,25 +103,41 @@ class CriticalStateLadeDuncan {
     return normalized_stress_ratio_q(p, std::sqrt(1.5 * double_contraction(s, s)), cos3theta);
   }
   // The same from p, q = sqrt(3/2 s:s) and cos 3θ.
+  // With the table's Newton step η_1 = η_0 - h/h' accepted (as in stress_ratio), M_c q/(p η_1)
+  // = M_c q h'/(p (η_0 h' - h)): one division for the step and the ratio.
   double normalized_stress_ratio_q(double p, double q, double cos3theta) const {
     const double cap = 3.0 * m_c_;
     if (!(q > 0.0)) return 0.0;
     if (!(p > 0.0)) return cap;
-    const double eta = m_c_ * q / (p * stress_ratio(cos3theta));
-    return std::min(eta, cap);
+    const double c = std::clamp(cos3theta, -1.0, 1.0);
+    const double eta = tabulated_ratio(c);
+    const double h = 1.0 - eta * eta * (1.0 / 3.0) + 2.0 / 27.0 * c * eta * eta * eta - target_;
+    const double dh = -2.0 / 3.0 * eta + 2.0 / 9.0 * c * eta * eta;
+    // |h/h'| <= 1e-7 η, tested without the division (h' < 0)
+    const double ratio = dh < 0.0 && std::abs(h) <= -1e-7 * eta * dh
+                             ? m_c_ * q * dh / (p * (eta * dh - h))
+                             : m_c_ * q / (p * stress_ratio_newton(c));
+    return std::min(ratio, cap);
   }
 
+  // e_cs = e_Γ - λ_c (p/p_atm)^ξ_c, as e_Γ - (λ_c p_atm^-ξ_c) p^ξ_c (no division per call)
   double critical_void_ratio(double p) const {
-    return e_gamma_ - lambda_c_ * std::pow(std::max(p, 0.0) / p_atm_, xi_c_);
+    return e_gamma_ - lambda_scaled_ * std::pow(std::max(p, 0.0), xi_c_);
   }
   double state_parameter(double void_ratio, double p) const {
     return std::clamp(void_ratio, e_min_, e_max_) - critical_void_ratio(p);
   }
+  // ψ from (max(p, 0))^ξ_c known to the caller; ξ_c
+  double state_parameter_from_power(double void_ratio, double p_power) const {
+    return std::clamp(void_ratio, e_min_, e_max_) - (e_gamma_ - lambda_scaled_ * p_power);
+  }
+  double pressure_exponent() const { return xi_c_; }
 
  private:
   static constexpr int kIntervals = 128;
-  double m_c_, k_ld_, e_gamma_, lambda_c_, xi_c_, p_atm_, e_min_, e_max_;
-  double target_;  // 27/k_LD
+  double m_c_, k_ld_, e_gamma_, xi_c_, e_min_, e_max_;
+  double target_;         // 27/k_LD
+  double lambda_scaled_;  // λ_c p_atm^-ξ_c
   std::array<double, kIntervals + 1> root_{}, slope_{};
 };
 

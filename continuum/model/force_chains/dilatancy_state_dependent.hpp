@@ -28,7 +28,11 @@ class DilatancyStateDependent {
 
   // Dilatancy stress ratio M_d(ψ).
   double dilatancy_ratio(double state_parameter) const {
-    return m_c_ * std::exp(std::clamp(n_d_ * state_parameter, -20.0, 20.0));
+    return m_c_ * std::exp(ratio_exponent(state_parameter));
+  }
+  // x = n_d ψ clamped to ±20: M_d = M_c exp(x)
+  double ratio_exponent(double state_parameter) const {
+    return std::clamp(n_d_ * state_parameter, -20.0, 20.0);
   }
   // D(η̃, ψ); +inf-like on the isotropic axis (returns a large number there).
   double dilatancy(double normalized_ratio, double state_parameter) const {
@@ -38,7 +42,11 @@ class DilatancyStateDependent {
 
   // a_v = d_0 (M_d(ψ) - η̃): D = a_v/η̃, and the isotropic part of m before normalisation is a_v I/3.
   double volumetric_coefficient(double normalized_ratio, double state_parameter) const {
-    return d_0_ * (dilatancy_ratio(state_parameter) - normalized_ratio);
+    return volumetric_coefficient_at(dilatancy_ratio(state_parameter), normalized_ratio);
+  }
+  // The same with M_d = dilatancy_ratio(ψ) known to the caller.
+  double volumetric_coefficient_at(double dilatancy_ratio, double normalized_ratio) const {
+    return d_0_ * (dilatancy_ratio - normalized_ratio);
   }
 
   // Unit flow direction m given the yield gradient and the state.

@@ -5,12 +5,15 @@
 // path the law integrates in closed form (`finite_update`): the volumetric part
 // dp/dε_v = K(p) gives p^{1-n} - p0^{1-n} = (1-n) K_ref p_ref^{-n} Δε_v above the floor and a
 // linear law below it; with ν constant ds = 2(G/K) dp/dε_v de, hence Δs = 2(G/K) (Δp/Δε_v) Δe.
+// The plastic update calls the symmetric-tensor forms (symmetric_tensor.hpp); the 3 × 3 matrix
+// forms serve diagnostics and tests.
 #pragma once
 
 #include <cmath>
 
 #include "continuum/model/force_chains/force_chain_parameters.hpp"
 #include "continuum/model/force_chains/stress_invariants.hpp"
+#include "continuum/model/force_chains/symmetric_tensor.hpp"
 
 namespace granflow::model::force_chains {
 
@@ -23,12 +26,12 @@ class PressureDependentElasticity {
         p_floor_(p.pressure_floor),
         shear_to_bulk_(1.5 * (1.0 - 2.0 * p.poisson_ratio) / (1.0 + p.poisson_ratio)),
         k_floor_(k_ref_ * std::pow(p_floor_ / p_ref_, n_)),
-        power_coefficient_((1.0 - n_) * k_ref_ / std::pow(p_ref_, n_)),
+        k_scale_(k_ref_ / std::pow(p_ref_, n_)),
+        power_coefficient_((1.0 - n_) * k_scale_),
         u_floor_(std::pow(p_floor_, 1.0 - n_)) {}
 
-  double bulk_modulus(double p) const {
-    return p > p_floor_ ? k_ref_ * power(p / p_ref_, n_) : k_floor_;
-  }
+  // K(p) = K_ref (p/p_ref)^n = (K_ref p_ref^-n) p^n above the floor (no division per call)
+  double bulk_modulus(double p) const { return p > p_floor_ ? k_scale_ * power(p, n_) : k_floor_; }
   double shear_modulus(double p) const { return shear_to_bulk_ * bulk_modulus(p); }
   double shear_to_bulk() const { return shear_to_bulk_; }
 
@@ -41,6 +44,11 @@ class PressureDependentElasticity {
     const double tr = strain.trace();
     return 2.0 * shear_to_bulk_ * k * (strain - tr / 3.0 * Tensor::Identity()) +
            k * tr * Tensor::Identity();
+  }
+  // K tr(ε) I + 2 G dev(ε) with K = bulk_modulus(p) known to the caller, symmetric storage.
+  SymTensor apply_with_modulus(double k, const SymTensor& strain) const {
+    const double tr = strain.trace(), two_g = 2.0 * shear_to_bulk_ * k;
+    return (two_g * strain).add_identity((k - two_g * (1.0 / 3.0)) * tr);
   }
   // Compliance (inverse of `apply`) at mean stress p.
   Tensor apply_inverse(double p, const Tensor& stress) const {
@@ -68,17 +76,22 @@ class PressureDependentElasticity {
     return p_floor_ + k_floor_ * (remaining - strain_to_floor);
   }
 
-  // Exact update along the straight strain path 0 -> strain (the "finite" form).
-  Tensor finite_update(const Tensor& stress, const Tensor& strain) const {
-    const double p0 = mean_stress(stress);
+  // Exact update along the straight strain path 0 -> strain (the "finite" form):
+  // σ + Δp I + 2 (G/K) K̄ dev(Δε) with K̄ = Δp/Δε_v.
+  SymTensor finite_update(const SymTensor& stress, const SymTensor& strain) const {
+    const double p0 = stress.trace() * (1.0 / 3.0);
     const double ev = strain.trace();
     const double p1 = pressure_after(p0, ev);
     // mean bulk modulus along the path, ∫K dt = Δp/Δε_v (t the path parameter)
     // (for |Δε_v| < 1e-9 the quotient loses digits; the midpoint modulus is then exact to
     // O(Δε_v²), far below round-off of the stress itself)
     const double k_mean = std::abs(ev) > 1e-9 ? (p1 - p0) / ev : bulk_modulus(0.5 * (p0 + p1));
-    return stress + (p1 - p0) * Tensor::Identity() +
-           2.0 * shear_to_bulk_ * k_mean * deviator(strain);
+    const double two_g = 2.0 * shear_to_bulk_ * k_mean;
+    SymTensor out = stress + two_g * strain;
+    return out.add_identity(p1 - p0 - two_g * (1.0 / 3.0) * ev);
+  }
+  Tensor finite_update(const Tensor& stress, const Tensor& strain) const {
+    return finite_update(SymTensor::from(stress), SymTensor::from(strain)).matrix();
   }
 
  private:
@@ -92,7 +105,9 @@ class PressureDependentElasticity {
     return std::pow(x, e);
   }
 
-  double k_ref_, p_ref_, n_, p_floor_, shear_to_bulk_, k_floor_, power_coefficient_, u_floor_;
+  double k_ref_, p_ref_, n_, p_floor_, shear_to_bulk_, k_floor_;
+  double k_scale_;  // K_ref p_ref^-n
+  double power_coefficient_, u_floor_;
 };
 
 }  // namespace granflow::model::force_chains

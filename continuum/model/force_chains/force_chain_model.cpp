@@ -32,7 +32,56 @@ ForceChainModel::ForceChainModel(ForceChainParameters parameters)
       constant_theta_hat_(par_.theta_hat_c == par_.theta_hat_e),
       cos_theta_hat_(std::cos(par_.theta_hat_e)),
       sin_theta_hat_(std::sin(par_.theta_hat_e)),
-      inv_b_p_(1.0 / par_.b_p) {}
+      inv_b_p_(1.0 / par_.b_p) {
+  // C(ξ, k) = ξ (ξ-1) ... (ξ-k+1)/k!, k = 1..8, and the range of δ in which the first term left
+  // out, |C(ξ, 9)| |δ|⁹, stays below 1e-17 (a tenth of the round-off of p^ξ; 1e-2 for ξ_c = 0.7,
+  // where |C(0.7, 9)| = 0.006)
+  double c = 1.0;
+  for (int k = 1; k <= 9; ++k) {
+    c *= (par_.xi_c - (k - 1)) / k;
+    if (k <= 8) binomial_[k - 1] = c;
+  }
+  power_series_range_ = c == 0.0 ? 1e-2 : std::min(1e-2, std::pow(1e-17 / std::abs(c), 1.0 / 9.0));
+}
+
+void ForceChainModel::dilatancy_terms(double p, double void_ratio, Anchor* anchor, double& psi,
+                                      double& m_d) const {
+  // Taylor series about the anchor's p0 and x0 (set by the last direct pow resp. exp of this
+  // integration), truncated below round-off:
+  //   p^ξ = p0^ξ (1 + δ)^ξ = p0^ξ (1 + Σ_{k<=8} C(ξ, k) δ^k),  δ = p/p0 - 1, |δ| <= range
+  //   M_c exp(x) = M_d0 exp(Δx) = M_d0 Σ_{k<=4} Δx^k/k!,     Δx = x - x0, |Δx| <= 1e-3
+  // (the first exp term left out, Δx⁵/120 <= 1e-17)
+  const double pp = std::max(p, 0.0);
+  double p_power;
+  const double d = anchor && anchor->p_set ? pp * anchor->inv_p - 1.0 : 1.0;
+  if (std::abs(d) <= power_series_range_) {
+    const double* b = binomial_;  // Estrin's scheme: four independent pairs
+    const double d2 = d * d, d4 = d2 * d2;
+    const double low = (b[0] + b[1] * d) * d + (b[2] + b[3] * d) * d * d2;
+    const double high = (b[4] + b[5] * d) + (b[6] + b[7] * d) * d2;
+    p_power = anchor->p_power * (1.0 + (low + high * d * d4));
+  } else {
+    p_power = std::pow(pp, critical_.pressure_exponent());
+    if (anchor && pp > 0.0) {
+      anchor->p_set = true;
+      anchor->inv_p = 1.0 / pp;
+      anchor->p_power = p_power;
+    }
+  }
+  psi = critical_.state_parameter_from_power(void_ratio, p_power);
+  const double x = dilatancy_.ratio_exponent(psi);
+  const double dx = anchor && anchor->x_set ? x - anchor->x : 1.0;
+  if (std::abs(dx) <= 1e-3) {
+    m_d = anchor->m_d * (1.0 + dx * (1.0 + dx * (0.5 + dx * (1.0 / 6.0 + dx * (1.0 / 24.0)))));
+  } else {
+    m_d = par_.M_c * std::exp(x);
+    if (anchor) {
+      anchor->x_set = true;
+      anchor->x = x;
+      anchor->m_d = m_d;
+    }
+  }
+}
 
 double ForceChainModel::deviatoric_hardening(double psi) const {
   return -(psi > 0.0 ? par_.xi_psi : par_.xi_psi_dense) * psi;
@@ -52,23 +101,28 @@ ForceChainState ForceChainModel::isotropic_state(double p, double void_ratio, do
   return s;
 }
 
-bool ForceChainModel::admissible(const Tensor& stress, const Tensor& chi, double r_c) {
+bool ForceChainModel::admissible(const SymTensor& stress, const SymTensor& chi, double r_c) {
   // r > 0 for the locus to be defined, and the no-tension cutoff σ_3 >= 0: grains in contact
   // carry no tension, and beyond σ_3 = 0 (q/p > 3 in compression) the cubic term of the locus
   // opens it (see docs/model/force_chains.md §2). The tolerance 1e-12 absorbs round-off.
   return double_contraction(stress, chi) > kApexRatio * r_c && is_compressive(stress, 1e-12);
 }
 
-double ForceChainModel::safe_yield(const Tensor& stress, const Tensor& chi, double r_c) const {
+double ForceChainModel::safe_yield(const SymTensor& stress, const SymTensor& chi, double r_c,
+                                   Locus* locus) const {
   if (!(r_c > 0.0)) return -kYieldClip;
-  if (admissible(stress, chi, r_c))
-    return std::clamp(yield_.value(stress, chi, r_c), -kYieldClip, kYieldClip);
+  if (admissible(stress, chi, r_c)) {
+    Locus l = yield_.locus(stress, chi);
+    const double f = std::clamp(yield_.value(l, r_c), -kYieldClip, kYieldClip);
+    if (locus) *locus = l;
+    return f;
+  }
   // at (or beyond) the apex: the origin itself is inside, any other point is in tension
-  return stress.norm() <= kApexRatio * r_c ? -kYieldClip : kYieldClip;
+  return norm(stress) <= kApexRatio * r_c ? -kYieldClip : kYieldClip;
 }
 
 double ForceChainModel::yield_value(const ForceChainState& state) const {
-  return safe_yield(state.stress, state.chi, state.r_c);
+  return safe_yield(SymTensor::from(state.stress), SymTensor::from(state.chi), state.r_c);
 }
 
 double ForceChainModel::dilatancy(const Tensor& stress, double void_ratio) const {
@@ -77,46 +131,59 @@ double ForceChainModel::dilatancy(const Tensor& stress, double void_ratio) const
 }
 
 Tensor ForceChainModel::flow_direction(const ForceChainState& state) const {
-  const Point y{state.stress, state.chi, state.plastic_strain, state.r_c, state.void_ratio};
-  return plastic_rates(y).m;
+  const Point y{SymTensor::from(state.stress), SymTensor::from(state.chi),
+                SymTensor::from(state.plastic_strain), state.r_c, state.void_ratio};
+  return plastic_rates(y).m.matrix();
 }
 
-ForceChainModel::PlasticRates ForceChainModel::plastic_rates(const Point& y) const {
-  const YieldGradients g = yield_.gradients_only(y.stress, y.chi, y.r_c);
+ForceChainModel::PlasticRates ForceChainModel::plastic_rates(const Point& y, const Locus* locus,
+                                                             Anchor* anchor) const {
+  const Locus l = locus ? *locus : yield_.locus(y.stress, y.chi);
+  const YieldFunctionDiPrisco::Gradients g = yield_.gradients(l, y.stress, y.chi);
   const double p = kThird * y.stress.trace();
-  const Tensor s = y.stress - p * Tensor::Identity();
+  const SymTensor s = deviator(y.stress);
+  // ψ and M_d = M_c exp(n_d ψ) first: their pow and exp depend on p and e only and run beside
+  // the chain of cos 3θ and η̃ below
+  double psi, m_d;
+  dilatancy_terms(p, y.void_ratio, anchor, psi, m_d);
   // invariants of s once: s:s, q = sqrt(3/2 s:s), |s| = sqrt(2/3) q, and cos 3θ =
-  // (3√3/2) J3/J2^{3/2} = (9/2) J3/(J2 q) with J2 = s:s/2 (stress_invariants.hpp)
+  // (3√3/2) J3/J2^{3/2} = 9 J3/(s:s q) = 6 J3 q/(s:s)² with J2 = s:s/2 and q² = (3/2) s:s
+  // (stress_invariants.hpp; the division beside the square root); 1/(s:s)² also gives
+  // 1/|s| = sqrt(3/2)/q = sqrt(2/3) q s:s/(s:s)²
   const double ss = double_contraction(s, s);
   const double q = std::sqrt(1.5 * ss);
-  const double c3 = ss > 0.0 ? std::clamp(4.5 * determinant(s) / (0.5 * ss * q), -1.0, 1.0) : 1.0;
+  const double inv_ss2 = ss > 0.0 ? 1.0 / (ss * ss) : 0.0;
+  const double c3 = ss > 0.0 ? std::clamp(6.0 * determinant(s) * q * inv_ss2, -1.0, 1.0) : 1.0;
   const double normalized_ratio = critical_.normalized_stress_ratio_q(p, q, c3);
-  const double psi = critical_.state_parameter(y.void_ratio, p);
   PlasticRates r;
   r.n = g.d_stress;
   // m = (α I + β n_dev)/|m|, α = d_0 (M_d - η̃)/3, β |n_dev| = η̃ sqrt(3/2) (dilatancy header):
   // n_dev is traceless, so |m|² = 3α² + (3/2) η̃², tr m = 3α/|m| and ε_q(m) = η̃/|m|
-  const Tensor n_dev = g.d_stress - (kThird * g.d_stress.trace()) * Tensor::Identity();
-  const double norm_dev = n_dev.norm();
-  const double alpha = kThird * dilatancy_.volumetric_coefficient(normalized_ratio, psi);
-  const double beta_norm = norm_dev > 0.0 ? normalized_ratio * kSqrtThreeHalves : 0.0;  // β|n_dev|
-  const double m_norm = std::sqrt(3.0 * alpha * alpha + beta_norm * beta_norm);
+  const SymTensor n_dev = deviator(g.d_stress);
+  const double nn = double_contraction(n_dev, n_dev);
+  const double norm_dev = std::sqrt(nn);
+  const double alpha = kThird * dilatancy_.volumetric_coefficient_at(m_d, normalized_ratio);
+  const double beta_norm = nn > 0.0 ? normalized_ratio * kSqrtThreeHalves : 0.0;  // β|n_dev|
+  const double m_norm2 = 3.0 * alpha * alpha + beta_norm * beta_norm;             // |m|²
   double m_trace = std::sqrt(3.0), m_shear = 0.0;  // tr m, ε_q(m); m = I/√3 if m = 0
-  if (m_norm > 0.0) {
-    const double inv_m = 1.0 / m_norm;
-    r.m = (alpha * inv_m) * Tensor::Identity();
-    if (norm_dev > 0.0) r.m += (beta_norm * inv_m / norm_dev) * n_dev;
+  double m_dev = 0.0;                              // m = (tr m / 3) I + m_dev n_dev
+  if (m_norm2 > 0.0) {
+    // 1/(|m| |n_dev|) = sqrt(x)/x, x = |m|² |n_dev|² (square root and division side by side)
+    const double x = nn > 0.0 ? m_norm2 * nn : m_norm2;
+    const double inv = std::sqrt(x) / x;
+    const double inv_m = nn > 0.0 ? norm_dev * inv : inv;
+    m_dev = beta_norm * inv;
     m_trace = 3.0 * alpha * inv_m;
     m_shear = kSqrtTwoThirds * beta_norm * inv_m;  // sqrt(2/3) |dev m|
-  } else {
-    r.m = kInvSqrt3 * Tensor::Identity();
   }
+  r.m = (m_dev * n_dev).add_identity(kThird * m_trace);
   // isotropic hardening: dr_c/dλ = (r_c/b_p)(m_v + ξ(ψ) m_q)
   const double xi = deviatoric_hardening(psi);
-  r.size_rate = y.r_c * inv_b_p_ * (m_trace + xi * m_shear);
+  const double size_rate_per_r_c = inv_b_p_ * (m_trace + xi * m_shear);
+  r.size_rate = y.r_c * size_rate_per_r_c;
   // rotational hardening: dχ/dλ = c_p (χ̂ - χ) projected on the tangent of |χ| = 1
   const double s_norm = kSqrtTwoThirds * q;
-  Tensor chi_target = kInvSqrt3 * Tensor::Identity();
+  SymTensor chi_target = SymTensor::identity(kInvSqrt3);
   if (s_norm > 1e-12 * std::abs(p) && s_norm > 0.0) {
     // θ̂ = θ̂_e + (θ̂_c - θ̂_e)(1 + cos 3θ)/2; constant (cos, sin from the constructor) when
     // θ̂_c = θ̂_e, as in the defaults
@@ -127,13 +194,19 @@ ForceChainModel::PlasticRates ForceChainModel::plastic_rates(const Point& y) con
       cos_theta = std::cos(theta);
       sin_theta = std::sin(theta);
     }
-    chi_target = cos_theta * kInvSqrt3 * Tensor::Identity() + (sin_theta / s_norm) * s;
+    // χ̂ = cos θ̂ I/√3 + sin θ̂ s/|s|
+    chi_target =
+        (sin_theta * kSqrtTwoThirds * q * ss * inv_ss2 * s).add_identity(cos_theta * kInvSqrt3);
   }
   r.chi_rate = par_.c_p * (chi_target - y.chi);
   r.chi_rate -= double_contraction(r.chi_rate, y.chi) * y.chi;
-  const double hardening = -(g.d_size * r.size_rate + double_contraction(g.d_axis, r.chi_rate));
+  // H = -(∂f/∂r_c dr_c/dλ + ∂f/∂χ : dχ/dλ) with ∂f/∂r_c = -A/r_c: the r_c of dr_c/dλ cancels
+  const double hardening =
+      yield_.log_coefficient() * size_rate_per_r_c - double_contraction(g.d_axis, r.chi_rate);
   r.bulk_modulus = elastic_.bulk_modulus(p);
-  r.stiffness_m = elastic_.apply_with_modulus(r.bulk_modulus, r.m);
+  // D:m = K tr(m) I + 2G dev(m), dev(m) = m_dev n_dev
+  r.stiffness_m = (2.0 * elastic_.shear_to_bulk() * r.bulk_modulus * m_dev * n_dev)
+                      .add_identity(r.bulk_modulus * m_trace);
   const double n_d_m = double_contraction(r.n, r.stiffness_m);
   // Softening beyond the elastic stiffness (n:D:m + H <= 0) has no strain-driven solution; the
   // denominator is kept >= 1% of n:D:m (documented as a limiter in docs/model/force_chains.md).
@@ -142,59 +215,74 @@ ForceChainModel::PlasticRates ForceChainModel::plastic_rates(const Point& y) con
   return r;
 }
 
-ForceChainModel::Increment ForceChainModel::increment(const Point& y, const Tensor& strain,
+ForceChainModel::Increment ForceChainModel::increment(const Point& y, const SymTensor& strain,
+                                                      double void_factor,
                                                       const PlasticRates& r) const {
   Increment inc;
-  inc.void_ratio = (1.0 + y.void_ratio) * std::expm1(-strain.trace());
-  const Tensor elastic_stress = elastic_.apply_with_modulus(r.bulk_modulus, strain);
+  inc.void_ratio = (1.0 + y.void_ratio) * void_factor;
+  const SymTensor elastic_stress = elastic_.apply_with_modulus(r.bulk_modulus, strain);
   const double dlambda = std::max(double_contraction(r.n, elastic_stress) / r.denominator, 0.0);
-  inc.stress = elastic_stress - dlambda * r.stiffness_m;
+  inc.stress = combine(1.0, elastic_stress, -dlambda, r.stiffness_m);
   inc.chi = dlambda * r.chi_rate;
   inc.plastic_strain = dlambda * r.m;
   inc.r_c = dlambda * r.size_rate;
-  inc.plastic_multiplier = dlambda;
   return inc;
 }
 
-double ForceChainModel::correct_drift(Point& y) const {
+double ForceChainModel::correct_drift(Point& y, Locus& locus, bool& has_locus,
+                                      Anchor& anchor) const {
+  has_locus = false;
   if (!(y.r_c > 0.0) || !admissible(y.stress, y.chi, y.r_c))
     return safe_yield(y.stress, y.chi, y.r_c);
-  double f0 = yield_.value(y.stress, y.chi, y.r_c);
+  locus = yield_.locus(y.stress, y.chi);
+  has_locus = true;
+  double f0 = yield_.value(locus, y.r_c);
   for (int it = 0; it < 4 && std::abs(f0) > par_.yield_tolerance; ++it) {
-    const PlasticRates r = plastic_rates(y);
+    const PlasticRates r = plastic_rates(y, &locus, &anchor);
     // consistent correction: move σ, r_c, χ along the plastic flow (Sloan et al. 2001, §4)
     const double dlambda = f0 / r.denominator;
     Point c = y;
     c.stress -= dlambda * r.stiffness_m;
     c.r_c = std::max(y.r_c + dlambda * r.size_rate, 0.5 * y.r_c);
     c.chi += dlambda * r.chi_rate;
-    c.chi /= c.chi.norm();
+    c.chi *= 1.0 / norm(c.chi);
     c.plastic_strain += dlambda * r.m;
-    double f1 = safe_yield(c.stress, c.chi, c.r_c);
+    Locus lc;
+    lc.r = 0.0;  // set (r > 0) by safe_yield when c is admissible
+    double f1 = safe_yield(c.stress, c.chi, c.r_c, &lc);
     if (!(std::abs(f1) < std::abs(f0))) {
       // normal correction: σ only, along ∂f/∂σ
       c = y;
       c.stress -= (f0 / double_contraction(r.n, r.n)) * r.n;
-      f1 = safe_yield(c.stress, c.chi, c.r_c);
+      lc.r = 0.0;
+      f1 = safe_yield(c.stress, c.chi, c.r_c, &lc);
       if (!(std::abs(f1) < std::abs(f0))) return f0;
     }
     y = c;
+    has_locus = lc.r > 0.0;
+    if (has_locus) locus = lc;
     f0 = f1;
   }
   return f0;
 }
 
-double ForceChainModel::elastic_fraction(const Point& y, const Tensor& strain, double f0, double f1,
-                                         const Tensor* stress_gradient) const {
+double ForceChainModel::elastic_fraction(const Point& y, const SymTensor& strain, double f0,
+                                         double f1, const SymTensor* stress_gradient) const {
   auto f_at = [&](double alpha) {
     return safe_yield(elastic_.finite_update(y.stress, alpha * strain), y.chi, y.r_c);
   };
   const double ftol = par_.yield_tolerance;
   double lo = 0.0, f_lo = f0, hi = 1.0, f_hi = f1;
   if (f0 > -ftol) {  // starting on the locus: loading or elastic unloading first?
-    const Tensor n =
-        stress_gradient ? *stress_gradient : yield_.stress_gradient(y.stress, y.chi, y.r_c);
-    const Tensor elastic_stress = elastic_.apply(mean_stress(y.stress), strain);
+    SymTensor n;
+    if (stress_gradient) {
+      n = *stress_gradient;
+    } else {
+      const Locus l = yield_.locus(y.stress, y.chi);
+      n = yield_.gradients(l, y.stress, y.chi).d_stress;
+    }
+    const SymTensor elastic_stress =
+        elastic_.apply_with_modulus(elastic_.bulk_modulus(kThird * y.stress.trace()), strain);
     if (double_contraction(n, elastic_stress) >= 0.0) return 0.0;
     constexpr int kScan = 16;  // unloading then reloading inside the increment
     bool found = false;
@@ -237,9 +325,9 @@ double ForceChainModel::elastic_fraction(const Point& y, const Tensor& strain, d
   return alpha;
 }
 
-double ForceChainModel::integrate(Point& y, const Tensor& strain, double volume_factor,
+double ForceChainModel::integrate(Point& y, const SymTensor& strain, double volume_factor,
                                   UpdateInfo& info) const {
-  const Tensor trial = elastic_.finite_update(y.stress, strain);
+  const SymTensor trial = elastic_.finite_update(y.stress, strain);
   const double f_trial = safe_yield(trial, y.chi, y.r_c);
   if (f_trial <= par_.yield_tolerance) {
     y.stress = trial;
@@ -247,15 +335,19 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, double volume_
     info.yield_value = f_trial;
     return 0.0;
   }
-  const double f0 = safe_yield(y.stress, y.chi, y.r_c);
+  // r, η, η·η of y: set by safe_yield and correct_drift, reused by plastic_rates(y)
+  Locus locus_y;
+  bool has_locus = false;
+  Anchor anchor;  // p^ξ_c and M_d of the last pow/exp, for the series of the later rates
+  const double f0 = safe_yield(y.stress, y.chi, y.r_c, &locus_y);
   // from the stress-free state straight into tension: all contact loss
-  if (y.stress.norm() <= kApexRatio * y.r_c && !admissible(trial, y.chi, y.r_c)) return 1.0;
+  if (norm(y.stress) <= kApexRatio * y.r_c && !admissible(trial, y.chi, y.r_c)) return 1.0;
   // On the locus the loading test needs ∂f/∂σ at y, and the first sub-step the rates at y when
-  // it loads (α = 0): both from one plastic_rates(y).
+  // it loads (α = 0): both from one plastic_rates(y). |f0| < kYieldClip: y is admissible.
   PlasticRates rates_y;
   bool rates_at_y = false;
   if (f0 > -par_.yield_tolerance && std::abs(f0) < kYieldClip) {
-    rates_y = plastic_rates(y);
+    rates_y = plastic_rates(y, &locus_y, &anchor);
     rates_at_y = true;
   }
   const double alpha = elastic_fraction(y, strain, f0, f_trial, rates_at_y ? &rates_y.n : nullptr);
@@ -264,7 +356,7 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, double volume_
     y.void_ratio = (1.0 + y.void_ratio) * std::exp(-alpha * strain.trace()) - 1.0;
     rates_at_y = false;
   }
-  const Tensor rest = (1.0 - alpha) * strain;
+  const SymTensor rest = (1.0 - alpha) * strain;
   const bool fixed = par_.fixed_substeps > 0;
   const double stol = par_.stress_tolerance;
   // The first sub-step is the whole increment (the update depends on the state and the increment
@@ -274,16 +366,19 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, double volume_
   int attempts = 0;
   double dt_budget = 0.0;  // once max_substeps is spent: the rest in at most 64 forced steps
   auto at_apex = [](const Point& z) { return !admissible(z.stress, z.chi, z.r_c); };
-  auto add = [](const Point& z, const Increment& a, const Increment& b, double w) {
-    Point out = z;
-    out.stress += w * (a.stress + b.stress);
-    out.chi += w * (a.chi + b.chi);
-    out.plastic_strain += w * (a.plastic_strain + b.plastic_strain);
-    out.r_c = std::max(out.r_c + w * (a.r_c + b.r_c), 0.0);
-    out.void_ratio += w * (a.void_ratio + b.void_ratio);
+  // z + w (a + b), one pass per tensor
+  auto add = [](const Point& z, const Increment& a, const Increment* b, double w) {
+    Point out;
+    for (int i = 0; i < 6; ++i) {
+      out.stress.c[i] = z.stress.c[i] + w * (a.stress.c[i] + (b ? b->stress.c[i] : 0.0));
+      out.chi.c[i] = z.chi.c[i] + w * (a.chi.c[i] + (b ? b->chi.c[i] : 0.0));
+      out.plastic_strain.c[i] =
+          z.plastic_strain.c[i] + w * (a.plastic_strain.c[i] + (b ? b->plastic_strain.c[i] : 0.0));
+    }
+    out.r_c = std::max(z.r_c + w * (a.r_c + (b ? b->r_c : 0.0)), 0.0);
+    out.void_ratio = z.void_ratio + w * (a.void_ratio + (b ? b->void_ratio : 0.0));
     return out;
   };
-  const Increment zero{Tensor::Zero(), Tensor::Zero(), Tensor::Zero(), 0.0, 0.0, 0.0};
   while (t < 1.0 - 1e-12) {
     if (++attempts == par_.max_substeps) {
       info.substep_budget_exhausted = true;
@@ -291,29 +386,34 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, double volume_
       dt = std::max(dt, dt_budget);
     }
     const bool last_chance = fixed || attempts >= par_.max_substeps || dt < 1e-9;
-    const Tensor sub = dt * rest;
+    const SymTensor sub = dt * rest;
+    // 1 + e changes by the factor exp(-tr sub) over the sub-step (the same for both stages)
+    const double void_factor = std::expm1(-sub.trace());
     // the rates at y are the same for every attempt from y (rejected sub-steps retry from it)
     if (!rates_at_y) {
-      rates_y = plastic_rates(y);
+      rates_y = plastic_rates(y, has_locus ? &locus_y : nullptr, &anchor);
       rates_at_y = true;
     }
-    const Increment k1 = increment(y, sub, rates_y);
-    const Point y1 = add(y, k1, zero, 1.0);
+    const Increment k1 = increment(y, sub, void_factor, rates_y);
+    const Point y1 = add(y, k1, nullptr, 1.0);
     Point next = y1;
     double error = 0.0;
     // r_c <= 0 inside the pair means the step overshot the collapse of the locus
     bool apex = at_apex(y1), overshoot = !(y1.r_c > 0.0);
     if (!apex && !overshoot) {
-      const Increment k2 = increment(y1, sub, plastic_rates(y1));
-      next = add(y, k1, k2, 0.5);
+      const Increment k2 = increment(y1, sub, void_factor, plastic_rates(y1, nullptr, &anchor));
+      next = add(y, k1, &k2, 0.5);
       apex = at_apex(next);
       overshoot = !(next.r_c > 0.0);
-      const double stress_scale = std::max(next.stress.norm(), par_.pressure_floor);
+      // local error of the Euler/modified-Euler pair: stress and r_c relative, χ absolute (unit);
+      // the squares of the three measures compared, one square root
+      const double stress_scale2 = std::max(double_contraction(next.stress, next.stress),
+                                            par_.pressure_floor * par_.pressure_floor);
       const double size_scale = std::max(next.r_c, par_.fluidization_size);
-      // local error of the Euler/modified-Euler pair: stress and r_c relative, χ absolute (unit)
-      error =
-          std::max({0.5 * (k2.stress - k1.stress).norm() / stress_scale,
-                    0.5 * std::abs(k2.r_c - k1.r_c) / size_scale, 0.5 * (k2.chi - k1.chi).norm()});
+      const SymTensor d_stress = k2.stress - k1.stress, d_chi = k2.chi - k1.chi;
+      const double d_size = (k2.r_c - k1.r_c) / size_scale;
+      error = 0.5 * std::sqrt(std::max({double_contraction(d_stress, d_stress) / stress_scale2,
+                                        d_size * d_size, double_contraction(d_chi, d_chi)}));
       if (!std::isfinite(error)) overshoot = true;
     }
     if ((apex || overshoot) && !last_chance) {  // shorten the step to approach the apex/collapse
@@ -335,13 +435,13 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, double volume_
       continue;
     }
     y = next;
-    y.chi /= y.chi.norm();
+    y.chi *= 1.0 / norm(y.chi);
     rates_at_y = false;
     t += dt;
     ++info.substeps;
     info.plastic = true;
     if (y.r_c < par_.fluidization_size) return 0.0;  // fluidized: the caller clears σ
-    info.yield_value = correct_drift(y);
+    info.yield_value = correct_drift(y, locus_y, has_locus, anchor);
     if (!fixed) {
       double factor = error > 0.0 ? 0.9 * std::sqrt(stol / error) : 1.1;
       factor = std::clamp(factor, 0.1, last_failed ? 1.0 : 1.1);
@@ -353,14 +453,15 @@ double ForceChainModel::integrate(Point& y, const Tensor& strain, double volume_
   return 0.0;
 }
 
-void ForceChainModel::apex_flow(Point& y, const Tensor& strain) const {
+void ForceChainModel::apex_flow(Point& y, const SymTensor& strain) const {
   // All the remaining strain is plastic separation at the stress-free apex; r_c follows the
   // hardening law with that plastic strain (dilation and looser-than-critical shear soften).
-  y.stress.setZero();
+  y.stress = SymTensor::zero();
   y.plastic_strain += strain;
   const double psi = critical_.state_parameter(y.void_ratio, 0.0);
-  const double exponent =
-      (strain.trace() + deviatoric_hardening(psi) * deviatoric_strain(strain)) / par_.b_p;
+  const SymTensor e = deviator(strain);  // ε_q = sqrt(2/3 e:e)
+  const double strain_q = std::sqrt(2.0 / 3.0 * double_contraction(e, e));
+  const double exponent = (strain.trace() + deviatoric_hardening(psi) * strain_q) / par_.b_p;
   y.r_c *= std::exp(std::clamp(exponent, -700.0, 50.0));
   y.void_ratio = (1.0 + y.void_ratio) * std::exp(-strain.trace()) - 1.0;
 }
@@ -407,22 +508,23 @@ UpdateInfo ForceChainModel::update(ForceChainState& state, const Eigen::Matrix3d
     return info;
   }
 
-  Point y{state.stress, state.chi, state.plastic_strain, state.r_c, state.void_ratio};
-  Tensor remaining = strain_increment;
+  Point y{SymTensor::from(state.stress), SymTensor::from(state.chi),
+          SymTensor::from(state.plastic_strain), state.r_c, state.void_ratio};
+  SymTensor remaining = SymTensor::from(strain_increment);
   for (int pass = 0; pass < 3; ++pass) {
     // exp(-tr) of the whole increment on the first pass, of the rest after contact loss
     const double left =
         integrate(y, remaining, pass == 0 ? volume_factor : std::exp(-remaining.trace()), info);
     if (y.r_c < par_.fluidization_size || left <= 0.0) break;
     info.contact_loss = true;
-    y.stress.setZero();
+    y.stress = SymTensor::zero();
     remaining *= left;
     if (remaining.trace() > 0.0 && pass < 2) continue;  // compaction: reload from the origin
     apex_flow(y, remaining);
     break;
   }
-  state.chi = y.chi;
-  state.plastic_strain = y.plastic_strain;
+  state.chi = y.chi.matrix();
+  state.plastic_strain = y.plastic_strain.matrix();
   state.void_ratio = void_ratio_new;
   if (y.r_c < par_.fluidization_size) {
     state.fluidized = true;
@@ -432,7 +534,7 @@ UpdateInfo ForceChainModel::update(ForceChainState& state, const Eigen::Matrix3d
     info.yield_value = -kYieldClip;
   } else {
     state.r_c = y.r_c;
-    state.stress = y.stress;
+    state.stress = y.stress.matrix();
     if (info.contact_loss) info.yield_value = safe_yield(y.stress, y.chi, y.r_c);
   }
   info.plastic_volumetric_strain = (state.plastic_strain - plastic_strain_old).trace();

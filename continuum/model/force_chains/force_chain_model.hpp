@@ -22,6 +22,7 @@
 #include "continuum/model/force_chains/elasticity_pressure_dependent.hpp"
 #include "continuum/model/force_chains/force_chain_parameters.hpp"
 #include "continuum/model/force_chains/stress_invariants.hpp"
+#include "continuum/model/force_chains/symmetric_tensor.hpp"
 #include "continuum/model/force_chains/yield_function_diprisco.hpp"
 
 namespace granflow::model::force_chains {
@@ -58,7 +59,8 @@ class ForceChainModel {
   // fluidized on entry. Throws std::invalid_argument for a non-finite increment or one that
   // compacts beyond e = 0 (Δε_v >= ln(1+e)); std::runtime_error if the result is not finite.
   // volume_factor: exp(-tr Δε) = (1 + e_new)/(1 + e) when the caller has it (> 0; one exp
-  // fewer), else 0 and it is computed here.
+  // fewer), else 0 and it is computed here. The plastic update uses the symmetric part of
+  // strain_increment (stress, axis and plastic strain stay symmetric).
   UpdateInfo update(ForceChainState& state, const Eigen::Matrix3d& strain_increment, double dt,
                     double granular_temperature, double volume_factor = 0.0) const;
 
@@ -79,36 +81,59 @@ class ForceChainModel {
   const DilatancyStateDependent& dilatancy_law() const { return dilatancy_; }
 
  private:
+  // The integration works on symmetric tensors (symmetric_tensor.hpp): 6 components each.
+  using Locus = YieldFunctionDiPrisco::Locus;
   struct Point {  // integration variables
-    Tensor stress, chi, plastic_strain;
+    SymTensor stress, chi, plastic_strain;
     double r_c, void_ratio;
   };
   struct Increment {
-    Tensor stress, chi, plastic_strain;
+    SymTensor stress, chi, plastic_strain;
     double r_c, void_ratio;
-    double plastic_multiplier;
   };
   struct PlasticRates {
-    Tensor n, m, stiffness_m, chi_rate;
+    SymTensor n, m, stiffness_m, chi_rate;
     double size_rate, denominator;
     double bulk_modulus;  // K(p) at the point
   };
 
-  static bool admissible(const Tensor& stress, const Tensor& chi, double r_c);
-  double safe_yield(const Tensor& stress, const Tensor& chi, double r_c) const;
-  PlasticRates plastic_rates(const Point& y) const;
-  // Euler increment from y over `strain` with the plastic rates r = plastic_rates(y).
-  Increment increment(const Point& y, const Tensor& strain, const PlasticRates& r) const;
-  double correct_drift(Point& y) const;  // returns the final f
+  // p^ξ_c and M_d = M_c exp(x), x = n_d ψ, of the last direct pow resp. exp of an
+  // integration: the later plastic rates (sub-steps, drift correction), whose p and x differ
+  // little from these, take theirs from Taylor series about them (dilatancy_terms). The anchor
+  // is reset by every integrate(): the update still depends on the state and the increment
+  // only.
+  struct Anchor {
+    bool p_set = false, x_set = false;
+    double inv_p = 0.0, p_power = 0.0, x = 0.0, m_d = 0.0;
+  };
+
+  static bool admissible(const SymTensor& stress, const SymTensor& chi, double r_c);
+  // f clipped to ±kYieldClip (-kYieldClip at the stress-free origin, +kYieldClip in tension);
+  // *locus (if given) receives r, η, η·η of the point when it is admissible (r_c > 0).
+  double safe_yield(const SymTensor& stress, const SymTensor& chi, double r_c,
+                    Locus* locus = nullptr) const;
+  // Rates at y; `locus` = yield_.locus(y.stress, y.chi) when the caller has it; `anchor` (if
+  // given) carries p^ξ_c and M_d from one call to the next.
+  PlasticRates plastic_rates(const Point& y, const Locus* locus = nullptr,
+                             Anchor* anchor = nullptr) const;
+  // ψ and M_d at (p, e), from the anchor's series when it is set and close enough
+  void dilatancy_terms(double p, double void_ratio, Anchor* anchor, double& psi, double& m_d) const;
+  // Euler increment from y over `strain` with the plastic rates r = plastic_rates(y);
+  // void_factor = expm1(-tr strain).
+  Increment increment(const Point& y, const SymTensor& strain, double void_factor,
+                      const PlasticRates& r) const;
+  // Returns the final f; *locus receives the final point's r, η, η·η and *has_locus whether
+  // they are set (the point admissible, r_c > 0).
+  double correct_drift(Point& y, Locus& locus, bool& has_locus, Anchor& anchor) const;
   // f0, f1: f at the start and at the end of the elastic trial (both known to the caller);
   // stress_gradient: ∂f/∂σ at y if the caller has it, else nullptr.
-  double elastic_fraction(const Point& y, const Tensor& strain, double f0, double f1,
-                          const Tensor* stress_gradient) const;
+  double elastic_fraction(const Point& y, const SymTensor& strain, double f0, double f1,
+                          const SymTensor* stress_gradient) const;
   // Integrates `strain` from y; returns the fraction of `strain` left when the stress path hits
   // the stress-free apex (0 when the whole increment was integrated).
   // volume_factor = exp(-tr strain).
-  double integrate(Point& y, const Tensor& strain, double volume_factor, UpdateInfo& info) const;
-  void apex_flow(Point& y, const Tensor& strain) const;
+  double integrate(Point& y, const SymTensor& strain, double volume_factor, UpdateInfo& info) const;
+  void apex_flow(Point& y, const SymTensor& strain) const;
 
   ForceChainParameters par_;
   PressureDependentElasticity elastic_;
@@ -119,6 +144,10 @@ class ForceChainModel {
   bool constant_theta_hat_;
   double cos_theta_hat_, sin_theta_hat_;
   double inv_b_p_;  // 1/b_p
+  // binomial coefficients of (1 + δ)^ξ_c = 1 + Σ_k binomial_[k-1] δ^k, k = 1..8, and the
+  // |δ| up to which that sum is p^ξ_c to round-off
+  double binomial_[8];
+  double power_series_range_;
 };
 
 }  // namespace granflow::model::force_chains

@@ -9,12 +9,16 @@
 //   ∂f/∂σ   = A χ/r + (√3/r) [G_η - (G_η:σ/r) χ]
 //   ∂f/∂r_c = -A/r_c
 //   ∂f/∂χ   = A σ/r - √3 [(G_η:σ) σ/r² + G_η]
+// The evaluation works on symmetric tensors (symmetric_tensor.hpp): the pieces r, 1/r, η and
+// η·η (`Locus`) are formed once and serve f and the gradients; the 3 × 3 matrix forms below
+// convert (their symmetric parts) and call them.
 #pragma once
 
 #include <cmath>
 
 #include "continuum/model/force_chains/force_chain_parameters.hpp"
 #include "continuum/model/force_chains/stress_invariants.hpp"
+#include "continuum/model/force_chains/symmetric_tensor.hpp"
 
 namespace granflow::model::force_chains {
 
@@ -27,75 +31,63 @@ struct YieldGradients {
 
 class YieldFunctionDiPrisco {
  public:
+  // r = σ:χ, 1/r, η = √3 (σ/r - χ) and η·η at one (σ, χ) with r > 0.
+  struct Locus {
+    double r, inv_r;
+    SymTensor eta, eta2;
+  };
+  // ∂f/∂σ and ∂f/∂χ at one (σ, χ) (∂f/∂r_c = -A/r_c needs no tensor).
+  struct Gradients {
+    SymTensor d_stress, d_axis;
+  };
+
   explicit YieldFunctionDiPrisco(const ForceChainParameters& p)
       : gamma_(p.gamma), a_(3.0 * p.beta_f * (p.gamma - 3.0)), c2_(2.25 * (p.gamma - 1.0)) {}
 
-  double log_coefficient() const { return a_; }
+  double log_coefficient() const { return a_; }  // A
 
-  // f for r > 0 and r_c > 0 (the caller guarantees both; see ForceChainModel for r -> 0).
+  Locus locus(const SymTensor& stress, const SymTensor& axis) const {
+    Locus l;
+    l.r = double_contraction(stress, axis);
+    l.inv_r = 1.0 / l.r;
+    l.eta = combine(kSqrt3 * l.inv_r, stress, -kSqrt3, axis);
+    l.eta2 = square(l.eta);
+    return l;
+  }
+  // f = A ln(r/r_c) - γ η·η:η + (9/4)(γ-1) η:η for r > 0 and r_c > 0 (the caller guarantees
+  // both; see ForceChainModel for r -> 0).
+  double value(const Locus& l, double size) const {
+    return a_ * std::log(l.r / size) - gamma_ * double_contraction(l.eta2, l.eta) +
+           c2_ * double_contraction(l.eta, l.eta);
+  }
+  double value(const SymTensor& stress, const SymTensor& axis, double size) const {
+    return value(locus(stress, axis), size);
+  }
+  // ∂f/∂σ = (1/r) [(A - √3 G_η:σ/r) χ + √3 G_η],  ∂f/∂χ = ((A - √3 G_η:σ/r)/r) σ - √3 G_η
+  // (the header's formulas with 1/r formed once).
+  Gradients gradients(const Locus& l, const SymTensor& stress, const SymTensor& axis) const {
+    const SymTensor g_eta = combine(-3.0 * gamma_, l.eta2, 2.0 * c2_, l.eta);
+    const double k = a_ - kSqrt3 * double_contraction(g_eta, stress) * l.inv_r;
+    return {combine(k * l.inv_r, axis, kSqrt3 * l.inv_r, g_eta),
+            combine(k * l.inv_r, stress, -kSqrt3, g_eta)};
+  }
+
+  // 3 × 3 matrix forms (diagnostics and tests).
   double value(const Tensor& stress, const Tensor& axis, double size) const {
-    const double r = double_contraction(stress, axis);
-    const Tensor eta = (std::sqrt(3.0) / r) * (stress - r * axis);
-    const Tensor eta2 = eta * eta;
-    return a_ * std::log(r / size) - gamma_ * double_contraction(eta2, eta) +
-           c2_ * double_contraction(eta, eta);
+    return value(SymTensor::from(stress), SymTensor::from(axis), size);
   }
-
-  // ∂f/∂σ alone (the d_stress of gradients(), same expressions).
   Tensor stress_gradient(const Tensor& stress, const Tensor& axis, double size) const {
-    (void)size;  // ∂f/∂σ does not depend on r_c
-    return shape(stress, axis).d_stress(a_, axis);
+    return gradients(stress, axis, size).d_stress;
   }
-
   YieldGradients gradients(const Tensor& stress, const Tensor& axis, double size) const {
-    const Shape sh = shape(stress, axis);
-    YieldGradients g;
-    g.value = a_ * std::log(sh.r / size) - gamma_ * double_contraction(sh.eta2, sh.eta) +
-              c2_ * double_contraction(sh.eta, sh.eta);
-    g.d_stress = sh.d_stress(a_, axis);
-    g.d_size = -a_ / size;
-    g.d_axis = (a_ / sh.r) * stress - sh.sqrt3 * ((sh.g_sigma / (sh.r * sh.r)) * stress + sh.g_eta);
-    return g;
-  }
-
-  // ∂f/∂σ, ∂f/∂r_c and ∂f/∂χ without f (no logarithm), the same formulas as gradients() with
-  // 1/r and 1/r_c formed once (round-off apart, the same values).
-  YieldGradients gradients_only(const Tensor& stress, const Tensor& axis, double size) const {
-    constexpr double kSqrt3 = 1.7320508075688772;
-    const double r = double_contraction(stress, axis), inv_r = 1.0 / r;
-    const Tensor eta = (kSqrt3 * inv_r) * (stress - r * axis);
-    const Tensor g_eta = -3.0 * gamma_ * (eta * eta) + 2.0 * c2_ * eta;
-    const double g_sigma_r = double_contraction(g_eta, stress) * inv_r;  // g_η:σ / r
-    YieldGradients g;
-    g.value = 0.0;  // not evaluated
-    g.d_stress = inv_r * ((a_ - kSqrt3 * g_sigma_r) * axis + kSqrt3 * g_eta);
-    g.d_size = -a_ / size;
-    g.d_axis = ((a_ - kSqrt3 * g_sigma_r) * inv_r) * stress - kSqrt3 * g_eta;
-    return g;
+    const SymTensor s = SymTensor::from(stress), x = SymTensor::from(axis);
+    const Locus l = locus(s, x);
+    const Gradients g = gradients(l, s, x);
+    return {value(l, size), g.d_stress.matrix(), -a_ / size, g.d_axis.matrix()};
   }
 
  private:
-  // The pieces ∂f/∂σ and ∂f/∂α share: r = σ:α, η = √3 (σ - r α)/r, η², g_η = ∂f/∂η, g_η:σ.
-  struct Shape {
-    double sqrt3, r;
-    Tensor eta, eta2, g_eta;
-    double g_sigma;
-    // ∂f/∂σ = (a/r) α + (√3/r) (g_η - (g_η:σ / r) α)
-    Tensor d_stress(double a, const Tensor& axis) const {
-      return (a / r) * axis + (sqrt3 / r) * (g_eta - (g_sigma / r) * axis);
-    }
-  };
-  Shape shape(const Tensor& stress, const Tensor& axis) const {
-    Shape sh;
-    sh.sqrt3 = std::sqrt(3.0);
-    sh.r = double_contraction(stress, axis);
-    sh.eta = (sh.sqrt3 / sh.r) * (stress - sh.r * axis);
-    sh.eta2 = sh.eta * sh.eta;
-    sh.g_eta = -3.0 * gamma_ * sh.eta2 + 2.0 * c2_ * sh.eta;
-    sh.g_sigma = double_contraction(sh.g_eta, stress);
-    return sh;
-  }
-
+  static constexpr double kSqrt3 = 1.7320508075688772;
   double gamma_, a_, c2_;
 };
 
