@@ -39,9 +39,7 @@ void continuum_stop(const core::Case& condition, const rev::SimpleShearResult& s
   control.duration = condition.number("stop.duration");
   const double strain = sheared.series.strain.empty() ? 0.0 : sheared.series.strain.back();
   if (const double length = condition.number("stop.drainage_length"); length > 0.0) {
-    rev::DrainedStopControl drained{control, normal_stress, length};
-    if (condition.has("stop.normal_stress"))
-      drained.normal_stress = condition.number("stop.normal_stress");
+    const rev::DrainedStopControl drained{control, normal_stress, length};
     rev::run_drained_stop(point, sheared.final_state, strain, drained, out);
     return;
   }

@@ -22,10 +22,16 @@ void continuum_transient(const core::Case& condition, double phi0, double p0,
 
 // The continuum's stop stage after `sheared` (rev/shear_stop.hpp) for stop.duration from the
 // state at the end of the shear: the same point held at its volume with ε̇ = 0, or, with
-// stop.drainage_length > 0, drained under stop.normal_stress (default `normal_stress`, the DEM's
-// prepared p0); rows (time since the stop) appended to `out`. Throws core::NumericalFailure.
+// stop.drainage_length > 0, drained under the total `normal_stress` (stop.normal_stress, or the
+// DEM's prepared p0: drained_normal_stress); rows (time since the stop) appended to `out`. Throws
+// core::NumericalFailure.
 void continuum_stop(const core::Case& condition, const rev::SimpleShearResult& sheared,
                     double normal_stress, rev::SimpleShearSeries& out);
+
+// σ_n of a drained stop: stop.normal_stress, else the prepared p0 (as the DEM kind defaults it).
+inline double drained_normal_stress(const core::Case& condition, double p0) {
+  return condition.has("stop.normal_stress") ? condition.number("stop.normal_stress") : p0;
+}
 
 // The case key of a fitted parameter: force_chains.NAME, or NAME itself when it is a key path
 // (e.g. liquid.viscous_contact).

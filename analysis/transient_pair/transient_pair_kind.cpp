@@ -140,9 +140,10 @@ void compare_stop(core::RunContext& ctx, const core::Case& condition, const DemT
                   const rev::SimpleShearResult& rev, const Thresholds& limits,
                   const std::string& group, const std::string& g, const std::string& suffix) {
   rev::SimpleShearSeries stop;
+  const double normal_stress = drained_normal_stress(condition, dem.p0);
   std::optional<core::NumericalFailure> failure;
   try {
-    continuum_stop(condition, rev, dem.p0, stop);
+    continuum_stop(condition, rev, normal_stress, stop);
   } catch (const core::NumericalFailure& e) {
     failure = e;
   }
@@ -195,8 +196,6 @@ void compare_stop(core::RunContext& ctx, const core::Case& condition, const DemT
       compare_times(sum, "cooling_time", dem_m.cooling_time, cont_m.cooling_time, suffix, g),
       dem_m.final_p_over_p0, cont_m.final_p_over_p0);
   if (!drained) return;
-  const double normal_stress =
-      condition.has("stop.normal_stress") ? condition.number("stop.normal_stress") : dem.p0;
   const auto dem_d =
       dem::drained_stop_metrics(dem.stop_time, dem.stop_sigma_yy_mean, dem.stop_phi_mean, dem.phi0,
                                 normal_stress, limits.reconsolidation);
