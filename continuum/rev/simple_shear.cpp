@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "continuum/model/closures.hpp"
 #include "continuum/rev/simple_shear_mixed_control.hpp"
 #include "core/interrupt.hpp"
 #include "core/run.hpp"
@@ -79,13 +80,20 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
   const auto& settings = point.settings();
   const auto& col = settings.collisional_parameters;
   const double d = col.diameter, rho_p = col.particle_density;
-  const double gamma_dot = control.shear_rate;
-  const Eigen::Matrix3d shear = simple_shear_strain_rate(gamma_dot);
+  // γ̇ of the current step (the rate step switches it once the strain reaches its strain)
+  double gamma_dot = control.shear_rate;
+  Eigen::Matrix3d shear = simple_shear_strain_rate(gamma_dot);
 
   const bool force_chains = settings.force_chains;
   const bool constant_pressure = control.control == ShearControl::constant_pressure;
   // Constant pressure with force chains: mixed control of every step (ε̇_yy solved for σ_yy = p).
   const bool mixed_control = constant_pressure && force_chains;
+  const bool drained = control.drainage_length > 0.0;
+  if (drained && !(mixed_control && settings.liquid))
+    throw std::invalid_argument(
+        "a drained simple shear needs constant pressure, the force chains and the liquid");
+  if (control.rate_step_strain < INFINITY && !(control.rate_step_shear_rate > 0.0))
+    throw std::invalid_argument("the rate step's shear rate must be positive");
   double effective_pressure = control.effective_pressure;
   if (mixed_control) {
     // The skeleton takes what p_COL(ν0, T0) leaves of p: σ_yy = p from the first step on.
@@ -124,6 +132,14 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
   double vertical_strain_guess = 0.0;  // Δε_yy of the previous step (mixed control)
 
   for (long step = 1; step <= control.max_steps; ++step) {
+    const bool before_rate_step = strain < control.rate_step_strain;
+    if (!before_rate_step && gamma_dot != control.rate_step_shear_rate) {
+      gamma_dot = control.rate_step_shear_rate;
+      shear = simple_shear_strain_rate(gamma_dot);
+      quiet_steps = quiet_windows = 0;  // steady is judged after the step
+      window_start = {strain, state.granular_temperature, state.solid_fraction,
+                      state.force_chains.stress};
+    }
     const Eigen::Matrix3d& rate = shear;
     // Constant pressure slaves ν to T through p_COL(ν, T) = ρ_p f1(ν) T = p, so dν/dT =
     // -f1/(T f1'). The volumetric work p tr(ε̇) = p (dν/dT) Ṫ / ν then moves to the left of
@@ -147,6 +163,9 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
                                   : INFINITY;
     double dt = control.time_step_factor * std::min(1.0 / gamma_dot, relaxation);
     if (force_chains) dt = std::min(dt, control.strain_increment / gamma_dot);
+    // The last step before a rate step ends on its strain (a sliver below 1e-6 joins it).
+    if (before_rate_step && strain + (1.0 + 1e-6) * gamma_dot * dt >= control.rate_step_strain)
+      dt = (control.rate_step_strain - strain) / gamma_dot;
     core::check_finite(dt, step, "REV point", "time_step", true);
     const double s_now = std::sqrt(std::max(state.granular_temperature, 0.0));
     result.max_explicit_ratio =
@@ -157,9 +176,15 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
     continuum::StressParts parts;
     double vertical_strain_rate = 0.0;
     if (mixed_control) {
-      NormalStressStep mixed =
-          advance_at_normal_stress(point, state, gamma_dot, dt, control.normal_stress,
-                                   vertical_strain_guess, control.normal_stress_tolerance, step);
+      // Drained: r = η0 H² / κ(ν) at the step's start (the lumped Darcy flow over H).
+      const double resistance =
+          drained ? settings.liquid_parameters.viscosity * control.drainage_length *
+                        control.drainage_length /
+                        model::permeability(settings.liquid_parameters, d, state.solid_fraction)
+                  : 0.0;
+      NormalStressStep mixed = advance_at_normal_stress(
+          point, state, gamma_dot, dt, control.normal_stress, vertical_strain_guess,
+          control.normal_stress_tolerance, step, 8, resistance);
       state = mixed.state;
       parts = mixed.parts;
       vertical_strain_guess = mixed.vertical_strain;
@@ -184,7 +209,9 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
       parts = point.evaluate(state, rate);
     }
     time += dt;
-    strain += gamma_dot * dt;
+    strain = before_rate_step && strain + gamma_dot * dt >= control.rate_step_strain
+                 ? control.rate_step_strain  // exactly on the step (no rounding residue)
+                 : strain + gamma_dot * dt;
     result.min_time_step = std::min(result.min_time_step, dt);
     result.max_time_step = std::max(result.max_time_step, dt);
 
@@ -255,6 +282,8 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
     if (progress && step % 1000 == 0) progress(strain);
     // SIGINT/SIGTERM: stop here with the state so far (steady.reached says whether it was).
     result.final_state = state;
+    if (before_rate_step && std::isfinite(control.rate_step_strain))
+      quiet_steps = 0;  // no steady state before the rate step
     if (quiet_steps >= 5 || strain >= control.max_strain || core::interrupted()) {
       auto& s = result.steady;
       s.reached = quiet_steps >= 5;

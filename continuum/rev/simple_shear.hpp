@@ -7,6 +7,7 @@
 // docs/model/multi_regime.md §4.1).
 #pragma once
 
+#include <cmath>
 #include <functional>
 #include <vector>
 
@@ -35,6 +36,16 @@ struct SimpleShearControl {
   double strain_increment = 1e-3;  // largest Δγ per step with force chains
   // Constant pressure with force chains: |σ_yy - p| <= this × p after every step.
   double normal_stress_tolerance = 1e-12;
+  // Drained (constant pressure with force chains and the liquid on, drainage_length H > 0): p is
+  // the total normal stress, shared by σ_yy and the excess pore pressure u = r ε̇_yy that drives
+  // the liquid in or out over H, r = η0 H² / κ(ν) (lumped Darcy flow, κ the liquid's
+  // permeability closure at the start of each step; rev/simple_shear_mixed_control.hpp). 0: the
+  // grains carry p alone (fully drained, or dry).
+  double drainage_length = 0.0;
+  // A step in the shear rate: γ̇ = shear_rate up to the strain rate_step_strain, then
+  // rate_step_shear_rate (the time step ends on the step's strain). Infinity: no step.
+  double rate_step_strain = INFINITY;
+  double rate_step_shear_rate = 0.0;
 };
 
 struct SimpleShearSeries {
