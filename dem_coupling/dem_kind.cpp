@@ -81,6 +81,14 @@ void check_shear(const core::Case& sweep_case) {
     if (c.string("control.mode") == "constant_pressure" && !c.has("control.normal_stress"))
       c.fail("control.normal_stress",
              "missing required key for constant_pressure; expected σ_yy > 0 [Pa]");
+    if (c.string("control.mode") == "drained" && !c.has("control.normal_stress") &&
+        !c.has("start.preparation"))
+      c.fail("control.normal_stress",
+             "missing required key for drained without start.preparation; expected the total "
+             "σ_n > 0 [Pa]");
+    if (c.has("rate_step.strain") != c.has("rate_step.shear_rate"))
+      c.fail(c.has("rate_step.strain") ? "rate_step.shear_rate" : "rate_step.strain",
+             "missing: a rate step needs both rate_step.strain and rate_step.shear_rate");
     if (c.string("material.contact_law") == "hooke" && !c.has("material.normal_stiffness"))
       c.fail("material.normal_stiffness",
              "missing required key for contact_law: hooke; expected k_n > 0 [N/m]");

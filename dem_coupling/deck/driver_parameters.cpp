@@ -50,6 +50,12 @@ std::string driver_parameter_lines(const DriverParameters& p) {
         "variable gf_stop_drainage_length equal {:.17g}\n"
         "variable gf_stop_normal_stress equal {:.17g}\n",
         p.stop_drainage_length, p.stop_normal_stress);
+  if (p.drainage_length > 0.0)
+    lines += fmt::format("variable gf_drainage_length equal {:.17g}\n", p.drainage_length);
+  if (p.rate_step_steps > 0)
+    lines += fmt::format(
+        "variable gf_rate_step_steps equal {}\nvariable gf_rate_step_shear_rate equal {:.17g}\n",
+        p.rate_step_steps, p.rate_step_shear_rate);
   return lines;
 }
 
@@ -103,6 +109,12 @@ DriverParameters driver_parameters_from_words(const std::vector<std::string>& wo
       p.stop_drainage_length = value;
     else if (name == "stop_normal_stress")
       p.stop_normal_stress = value;
+    else if (name == "drainage_length")
+      p.drainage_length = value;
+    else if (name == "rate_step_steps")
+      p.rate_step_steps = integer;
+    else if (name == "rate_step_shear_rate")
+      p.rate_step_shear_rate = value;
     else if (const auto k = target_index(name); k < target_observables.size())
       p.targets.error[k] = value;
     else

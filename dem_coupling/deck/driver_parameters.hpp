@@ -66,6 +66,15 @@ struct DriverParameters {
   // length (fix drainage, fixes/fix_drainage.hpp) instead of being held.
   double stop_drainage_length = 0.0;  // m
   double stop_normal_stress = 0.0;    // Pa
+  // gf_drainage_length, written only when > 0: a drained shear. fix drainage holds the total
+  // σ_yy at gf_normal_stress during the shear while the liquid drains in or out over this length
+  // (fixes/fix_drainage.hpp); the box height follows and fix gf_shear is reissued every sample.
+  double drainage_length = 0.0;  // m
+  // gf_rate_step_steps and gf_rate_step_shear_rate, written only when rate_step_steps > 0: after
+  // this many shear steps (a multiple of sample_every) the shear rate steps to the second value
+  // (the affine profile's change added to every sphere's v_x; driver/shear_schedule.hpp).
+  long rate_step_steps = 0;
+  double rate_step_shear_rate = 0.0;  // 1/s
 };
 
 // "variable gf_<name> equal <value>" lines, reals with 17 significant digits (exact round trip).
@@ -78,7 +87,8 @@ std::string granular_atom_setup();
 // variable without its prefix: shear_rate, total_steps, sample_every, constant_pressure,
 // normal_stress, servo_gain, servo_max_strain, servo_every, servo_move_every, profile_bins,
 // particle_density, target_friction, target_solid_fraction, target_temperature, check_every,
-// stop_steps, stop_drainage_length, stop_normal_stress, confirm_checks, temperature_scale);
+// stop_steps, stop_drainage_length, stop_normal_stress, drainage_length, rate_step_steps,
+// rate_step_shear_rate, confirm_checks, temperature_scale);
 // servo_every defaults to sample_every. Throws std::invalid_argument naming a word that is not
 // NAME=VALUE with a known NAME and a number.
 DriverParameters driver_parameters_from_words(const std::vector<std::string>& words);

@@ -52,6 +52,12 @@ long steps_for(double strain, double shear_rate, double dt) {
   return std::max(1L, std::lround(steps < 1e18 ? steps : 1e18));
 }
 
+// The larger of the shear rate and the rate step's: the time step and the sampling interval are
+// set for it (impacts are fastest there; the slower stage is sampled more finely in strain).
+double fastest_shear_rate(const ShearDeckParams& p) {
+  return p.rate_step_strain > 0.0 ? std::max(p.shear_rate, p.rate_step_shear_rate) : p.shear_rate;
+}
+
 // The fluid time-step input of an immersed deck (fluid_time_step.hpp).
 FluidTimeStepInput fluid_step_input(const ShearDeckParams& p, const ShearDeck& timing) {
   const DemMaterial& m = p.material;
@@ -196,6 +202,24 @@ std::vector<std::pair<std::string, std::string>> check_shear_params(const ShearD
     issues.emplace_back("stop.duration",
                         "0 under control.mode constant_pressure (the stop holds "
                         "the volume)");
+  if (p.drainage_length > 0.0 && !p.wet.enabled)
+    issues.emplace_back("control.mode",
+                        "constant_volume or constant_pressure without a liquid (drained needs "
+                        "liquid.enabled: true)");
+  if (p.rate_step_strain > 0.0) {
+    if (!(p.rate_step_strain < p.total_strain))
+      issues.emplace_back("rate_step.strain", "< strain.total");
+    if (!(p.rate_step_shear_rate > 0.0)) issues.emplace_back("rate_step.shear_rate", "> 0 (1/s)");
+    if (p.constant_pressure)
+      issues.emplace_back("rate_step.strain",
+                          "absent under control.mode constant_pressure (the servo's segments "
+                          "run at one rate; drained holds σ_yy step by step)");
+    if (p.targets.any())
+      issues.emplace_back("rate_step.strain", "absent with strain.target_error (a fixed run)");
+    if (p.snapshot_strain > 0.0)
+      issues.emplace_back("output.snapshot_strain",
+                          "0 with a rate step (snapshots are indexed at one rate)");
+  }
   if (p.stop_drainage_length > 0.0 && !p.wet.enabled)
     issues.emplace_back("stop.drainage_length",
                         "0 without a liquid (liquid.enabled: true; a dry sample has nothing "
@@ -253,7 +277,7 @@ ShearDeck shear_deck_timing(const ShearDeckParams& p) {
   out.small_diameter = range.small;
   out.large_diameter = range.large;
   // --- time step from the contact time of the smallest particle
-  const double reference_speed = p.impact_speed_factor * p.shear_rate * range.large;
+  const double reference_speed = p.impact_speed_factor * fastest_shear_rate(p) * range.large;
   out.times = contact_times(0.5 * range.small, m.particle_density, m.youngs_modulus,
                             m.poisson_ratio, reference_speed);
   if (m.contact_law == ContactLaw::hooke)  // two of the smallest spheres: m* = m_small / 2
@@ -263,16 +287,18 @@ ShearDeck shear_deck_timing(const ShearDeckParams& p) {
   if (p.wet.enabled) {
     // Immersed: dt = min(dt_safety t_contact, viscous_safety min(τ_drag, τ_rot, τ_n, τ_t))
     // (fluid_time_step.hpp). The drag time scale shortens with ν; the fix re-checks dt against
-    // the current ν at every setup, so take the target φ, or max(φ0, 0.6) when a servo sets it.
-    out.fluid_solid_fraction =
-        p.constant_pressure ? std::max(p.solid_fraction, 0.6) : p.solid_fraction;
+    // the current ν at every setup, so take the target φ, or max(φ0, 0.6) when a servo or the
+    // drainage sets it.
+    out.fluid_solid_fraction = p.constant_pressure || p.drainage_length > 0.0
+                                   ? std::max(p.solid_fraction, 0.6)
+                                   : p.solid_fraction;
     out.fluid_times = fluid_time_scales(fluid_step_input(p, out));
     const FluidTimeStep step =
         stable_fluid_time_step(out.fluid_times, p.dt_safety, p.wet.viscous_safety);
     out.dt = step.dt;
     out.dt_limit = step.limited_by;
   }
-  out.sample_every = steps_for(p.sample_strain, p.shear_rate, out.dt);
+  out.sample_every = steps_for(p.sample_strain, fastest_shear_rate(p), out.dt);
   out.snapshot_every =
       p.snapshot_strain > 0.0 ? steps_for(p.snapshot_strain, p.shear_rate, out.dt) : 0;
   out.servo_every =
@@ -292,9 +318,17 @@ ShearDeck shear_deck_timing(const ShearDeckParams& p) {
         std::clamp(std::lround(0.4 * double(samples_per_update)), 1L, samples_per_update - 1) *
         out.sample_every;
   const long block = p.constant_pressure ? out.servo_every : out.sample_every;
-  out.total_steps =
-      std::max(1L, std::lround(double(steps_for(p.total_strain, p.shear_rate, out.dt)) / block)) *
-      block;
+  // whole blocks; with a rate step, the strain before it at γ̇ and the rest at the step's rate
+  const auto blocks = [&](double strain, double rate) {
+    return std::max(1L, std::lround(double(steps_for(strain, rate, out.dt)) / block)) * block;
+  };
+  if (p.rate_step_strain > 0.0) {
+    out.rate_step_steps = blocks(p.rate_step_strain, p.shear_rate);
+    out.total_steps =
+        out.rate_step_steps + blocks(p.total_strain - p.rate_step_strain, p.rate_step_shear_rate);
+  } else {
+    out.total_steps = blocks(p.total_strain, p.shear_rate);
+  }
   // The stop stage: whole samples, at least one.
   if (p.stop_duration > 0.0)
     out.stop_steps =
@@ -325,7 +359,7 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
   ShearDeck out = shear_deck_timing(p);
   const DemMaterial& m = p.material;
   const SizeRange range = size_range(m);
-  const double reference_speed = p.impact_speed_factor * p.shear_rate * range.large;
+  const double reference_speed = p.impact_speed_factor * fastest_shear_rate(p) * range.large;
 
   // --- diameters (seeded)
   std::mt19937_64 rng(p.seed);
@@ -416,6 +450,10 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
   driver.stop_steps = out.stop_steps;
   driver.stop_drainage_length = p.stop_drainage_length;
   driver.stop_normal_stress = p.stop_normal_stress;
+  driver.drainage_length = p.drainage_length;
+  if (driver.drainage_length > 0.0) driver.normal_stress = p.normal_stress;  // total σ_yy held
+  driver.rate_step_steps = out.rate_step_steps;
+  driver.rate_step_shear_rate = p.rate_step_shear_rate;
   // (d γ̇)² as point_analysis.cpp forms it, so the frozen check is the same number
   driver.temperature_scale = out.mean_diameter * p.shear_rate * out.mean_diameter * p.shear_rate;
   const double skin = 0.2 * out.mean_diameter;

@@ -99,6 +99,12 @@ struct ShearDeckParams {
   // its liquid drains over stop_drainage_length (fix drainage); 0: held at constant volume.
   double stop_drainage_length = 0.0;  // m
   double stop_normal_stress = 0.0;    // Pa
+  // Drained shear (control.mode drained, immersed only): the total σ_yy = normal_stress is held
+  // during the shear while the liquid drains in or out over this length (fix drainage); 0: not.
+  double drainage_length = 0.0;  // m
+  // A step in the shear rate once the strain reaches rate_step_strain (0: no step).
+  double rate_step_strain = 0.0;
+  double rate_step_shear_rate = 0.0;  // 1/s after the step
   double sample_strain = 0.01;        // shear strain between samples
   // strain.target_error: granflow-dem stops once the steady window has been steady with its
   // errors within these at targets.confirm_checks consecutive checks (kind/steady_checks.hpp);
@@ -138,6 +144,8 @@ struct ShearDeck {
   // suspension's σ_yy responds at once to the dilation rate); 2/5 of the interval in whole
   // samples (at least one moving and one held). 0: moves over the whole interval (dry).
   long servo_move_every = 0;
+  // Rate step: the shear steps before it (whole samples); 0: none.
+  long rate_step_steps = 0;
   // Steps of the isotropic compression: dem.compression_steps, rounded up to whole sample
   // intervals in dry decks (their fix ave/time windows end on multiples of sample_every).
   long compression_steps = 0;

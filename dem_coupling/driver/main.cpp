@@ -57,6 +57,7 @@
 #include "dem_coupling/driver/initial_fluctuations.hpp"
 #include "dem_coupling/driver/prepare_stage.hpp"
 #include "dem_coupling/driver/series_output.hpp"
+#include "dem_coupling/driver/shear_schedule.hpp"
 #include "dem_coupling/driver/shear_stop.hpp"
 #include "dem_coupling/driver/stopping_rule.hpp"
 #include "dem_coupling/extraction/normal_stress_servo.hpp"
@@ -137,6 +138,15 @@ double deck_variable(void* handle, const char* name, int rank) {
   double* value = static_cast<double*>(p);
   const double v = *value;
   std::free(value);  // equal-style values are malloc'ed by library.cpp
+  return v;
+}
+
+// An optional equal-style variable of the deck: its value, or `absent` when the deck has none.
+double optional_deck_variable(void* handle, const char* name, double absent) {
+  void* p = lammps_extract_variable(handle, const_cast<char*>(name), nullptr);
+  if (p == nullptr) return absent;
+  const double v = *static_cast<double*>(p);
+  std::free(p);
   return v;
 }
 
@@ -343,6 +353,23 @@ int main(int argc, char** argv) {
                   "deck: gf_check_every must be a multiple of gf_servo_every (servo) or of "
                   "gf_sample_every");
   }
+  // Optional: a step in the shear rate (driver/shear_schedule.hpp) and a drained shear
+  // (gf_drainage_length: fix drainage holds the total σ_yy = gf_normal_stress every step).
+  const granflow::dem::ShearSchedule schedule{
+      shear_rate, std::lround(optional_deck_variable(handle, "gf_rate_step_steps", 0.0)),
+      optional_deck_variable(handle, "gf_rate_step_shear_rate", 0.0)};
+  const double shear_drainage_length = optional_deck_variable(handle, "gf_drainage_length", 0.0);
+  const bool drained = shear_drainage_length > 0.0;
+  if (schedule.has_step() && (servo || rule || schedule.step_steps % sample_every ||
+                              schedule.step_steps >= total_steps || !(schedule.step_rate > 0.0)))
+    usage_error(rank,
+                "deck: gf_rate_step_steps must be a multiple of gf_sample_every below "
+                "gf_total_steps, gf_rate_step_shear_rate > 0, without the servo or "
+                "gf_check_every");
+  if (drained && (servo || rule || !wet))
+    usage_error(rank,
+                "deck: gf_drainage_length needs an immersed deck (gf_viscosity), without the "
+                "servo or gf_check_every");
   if (lmp->force->pair == nullptr) usage_error(rank, "deck defines no pair style");
   // Dry decks define `fix gf_stress all ave/time 1 n n c_gf_virial[1..6]` (n = gf_sample_every):
   // the contact virial averaged over every step of the interval that ends at each sample, read
@@ -374,7 +401,13 @@ int main(int argc, char** argv) {
   granflow::dem::SampleSums local(bins), global(bins);
   const double dt = lmp->update->dt;
   const long shear_begin = lmp->update->ntimestep;
-  const long segment_steps = servo ? servo_every : rule ? check_every : total_steps;
+  // Segments: one per servo interval, check interval, sample (drained: fix gf_shear follows the
+  // box height), or the parts before and after a rate step.
+  const long segment_steps = servo                 ? servo_every
+                             : rule                ? check_every
+                             : drained             ? sample_every
+                             : schedule.has_step() ? schedule.step_steps
+                                                   : total_steps;
   double liggghts_seconds = 0.0, harness_seconds = 0.0, liggghts_cpu_seconds = 0.0;
   long samples = 0;
   double segment_normal_stress = 0.0;
@@ -409,7 +442,7 @@ int main(int argc, char** argv) {
         granflow::dem::finalize_sample(global, virial_stress, box, frame, particle_density);
     s.step = lmp->update->ntimestep;
     s.time = double(s.step - shear_begin) * dt;
-    s.strain = rate > 0.0 ? rate * s.time : shear_rate * double(strain_end - shear_begin) * dt;
+    s.strain = schedule.strain_after((rate > 0.0 ? s.step : strain_end) - shear_begin, dt);
     check_sample(s, rank);
     const double overlap = mean_overlap(handle, *lmp);
     // Z without rattlers, the non-rattler fraction and the fabric (contact_probe.hpp)
@@ -438,7 +471,25 @@ int main(int argc, char** argv) {
 
   bool height_commanded = false;  // fix gf_shear moves the height (from the last servo update)
   long done = 0;                  // shear steps run
+  if (drained) {
+    std::snprintf(command, sizeof command,
+                  "fix gf_drain all drainage %.17g %.17g gf_virial gf_fluid",
+                  deck_variable(handle, "gf_normal_stress", rank), shear_drainage_length);
+    lammps_command(handle, command);
+    if (rank == 0)
+      std::printf("granflow-dem: drained shear: total sigma_yy = %.6g Pa, drainage over %.4g m\n",
+                  deck_variable(handle, "gf_normal_stress", rank), shear_drainage_length);
+  }
   while (done < total_steps) {
+    if (schedule.has_step() && done == schedule.step_steps) {
+      granflow::dem::step_shear_rate(handle, *lmp, schedule.rate, schedule.step_rate);
+      if (rank == 0)
+        std::printf("granflow-dem: shear rate %.6g -> %.6g 1/s at step %ld (strain %.6g)\n",
+                    schedule.rate, schedule.step_rate, shear_begin + done,
+                    schedule.strain_after(done, dt));
+    } else if (drained && done > 0) {
+      granflow::dem::define_shear(handle, schedule.rate_after(done));  // at the current height
+    }
     const long segment_begin = shear_begin + done;
     const long segment_end = segment_begin + std::min(segment_steps, total_steps - done);
     // Move-then-hold: [segment_begin, move_end) with the height moving, the rest held.
@@ -462,7 +513,7 @@ int main(int argc, char** argv) {
         std::snprintf(command, sizeof command, "run %ld start %ld stop %ld pre %s post no", n,
                       phase_begin, phase_end, step == phase_begin ? "yes" : "no");
         const auto t1 = run_timed(command);
-        const ShearSample s = sample(shear_rate, shear_begin);
+        const ShearSample s = sample(schedule.rate_after(step - shear_begin), shear_begin);
         if (rank == 0 && rule) rule->add(s);
         if (measured) {
           segment_normal_stress += s.normal_stress;
@@ -526,7 +577,10 @@ int main(int argc, char** argv) {
   }
   if (stop_steps > 0) {
     const long stop_begin = shear_begin + done;
-    const granflow::dem::StoppedFlow stopped = granflow::dem::stop_shear(handle, *lmp, shear_rate);
+    const granflow::dem::StoppedFlow stopped =
+        granflow::dem::stop_shear(handle, *lmp, schedule.rate_after(std::max(done - 1, 0L)));
+    if (drained && !(drainage_length > 0.0))
+      lammps_command(handle, const_cast<char*>("unfix gf_drain"));  // the stop holds the volume
     if (drainage_length > 0.0) {
       std::snprintf(command, sizeof command,
                     "fix gf_drain all drainage %.17g %.17g gf_virial "
@@ -542,7 +596,7 @@ int main(int argc, char** argv) {
       std::printf(
           "granflow-dem: shear stopped at step %ld (strain %.6g): streaming profile, mean spin "
           "%.6g 1/s and drift (%.3g, %.3g, %.3g) m/s taken out; %ld steps %s\n",
-          stop_begin, shear_rate * double(done) * dt, stopped.mean_spin, stopped.drift[0],
+          stop_begin, schedule.strain_after(done, dt), stopped.mean_spin, stopped.drift[0],
           stopped.drift[1], stopped.drift[2], stop_steps, how);
     for (; stop_done < stop_steps; stop_done += sample_every) {
       const long n = std::min(sample_every, stop_steps - stop_done);

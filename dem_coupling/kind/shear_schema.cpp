@@ -119,8 +119,11 @@ core::Schema shear_schema() {
       .greater_than(0);
   auto& control = s.section("control", "volume or normal-stress control");
   control
-      .choice("mode", {"constant_volume", "constant_pressure"},
-              "constant_volume: φ imposed; constant_pressure: σ_yy imposed by a servo on L_y")
+      .choice("mode", {"constant_volume", "constant_pressure", "drained"},
+              "constant_volume: φ imposed; constant_pressure: σ_yy imposed by a servo on L_y; "
+              "drained (immersed): the total σ_yy = control.normal_stress held step by step "
+              "while the liquid drains in or out over control.drainage_length, ε̇_yy = "
+              "κ(φ)/(η0 H²) (σ_n − σ_yy) (fix drainage)")
       .required();
   control.number("solid_fraction", "", "φ (constant_volume), initial φ (constant_pressure)")
       .default_value("0.55")
@@ -128,9 +131,17 @@ core::Schema shear_schema() {
       .less_than(1)
       .sweepable();
   add_initial_temperature_key(control);
-  control.number("normal_stress", "Pa", "imposed normal stress σ_yy (constant_pressure)")
+  control
+      .number("normal_stress", "Pa",
+              "imposed normal stress σ_yy (constant_pressure), total σ_n (drained; default the "
+              "prepared p0)")
       .greater_than(0)
       .sweepable();
+  control
+      .number("drainage_length", "m",
+              "drainage length H of a drained shear (the liquid's path in or out of the sample)")
+      .default_value("0.01")
+      .greater_than(0);
   control
       .number(
           "servo_gain", "",
@@ -150,6 +161,11 @@ core::Schema shear_schema() {
               "contact_law hooke (its small elastic gain needs frequent updates to converge)")
       .greater_than(0);
   s.number("shear_rate", "1/s", "imposed shear rate γ̇").required().greater_than(0).sweepable();
+  auto& rate_step = s.section("rate_step",
+                              "a step in the shear rate during the run (constant_volume or "
+                              "drained): the affine profile's change added to every sphere");
+  rate_step.number("strain", "", "shear strain at which the rate steps").greater_than(0);
+  rate_step.number("shear_rate", "1/s", "the shear rate after the step").greater_than(0);
   auto& strain = s.section("strain", "shear strain to run and sample");
   strain.number("total", "", "shear strain of the run").default_value("20").greater_than(0);
   strain.number("sample", "", "shear strain between samples").default_value("0.01").greater_than(0);
@@ -308,6 +324,12 @@ ShearDeckParams read_shear_params(const core::Case& c) {
   p.total_strain = c.number("strain.total");
   p.stop_duration = c.number("stop.duration");
   p.stop_drainage_length = c.number("stop.drainage_length");
+  if (c.string("control.mode") == "drained")
+    p.drainage_length = c.number("control.drainage_length");
+  if (c.has("rate_step.strain") || c.has("rate_step.shear_rate")) {
+    p.rate_step_strain = c.has("rate_step.strain") ? c.number("rate_step.strain") : 0.0;
+    p.rate_step_shear_rate = c.has("rate_step.shear_rate") ? c.number("rate_step.shear_rate") : 0.0;
+  }
   if (c.has("stop.normal_stress")) p.stop_normal_stress = c.number("stop.normal_stress");
   p.sample_strain = c.number("strain.sample");
   // strain.target_error: the observables of target_observables (deck/driver_parameters.hpp);

@@ -191,6 +191,8 @@ void TransientShear::apply(const core::Case& c, ShearDeckParams& p) const {
   p.solid_fraction = s.phi;
   if (!c.has("control.initial_temperature")) p.initial_temperature = 0.0;
   if (!c.has("stop.normal_stress")) p.stop_normal_stress = s.p;  // a drained stop's default σ_n
+  if (p.drainage_length > 0.0 && !c.has("control.normal_stress"))
+    p.normal_stress = s.p;  // a drained shear's default σ_n
 }
 
 void TransientShear::absorb(core::RunContext& ctx, std::size_t n, const std::filesystem::path& dir,
@@ -270,6 +272,35 @@ void TransientShear::absorb(core::RunContext& ctx, std::size_t n, const std::fil
                                       : std::string("never"),
           point.band[phi_row].back(), d.final_solid_fraction);
     }
+  }
+  if (p.rate_step_strain > 0.0) {
+    constexpr std::size_t tau_row = 1, sigma_row = 2, T_row = 3, phi_row = 6;  // transient_band
+    point.rate_step = true;
+    point.step_strain = p.rate_step_strain;
+    point.step_rate = p.rate_step_shear_rate;
+    point.stepped =
+        rate_step_metrics(point.strain, point.band[tau_row], point.band[sigma_row],
+                          point.band[phi_row], point.band[T_row], p.rate_step_strain, residual_);
+    const RateStepMetrics& r = point.stepped;
+    publish({{"mu_before_step", r.mu_before},
+             {"mu_after_step", r.mu_after},
+             {"phi_before_step", r.phi_before},
+             {"phi_after_step", r.phi_after},
+             {"T_before_step", r.T_before},
+             {"T_after_step", r.T_after},
+             {"dilation", r.dilation},
+             {"peak_mu_after_step", r.peak_mu}});
+    if (r.dilation_strain >= 0.0)
+      ctx.summary.set(fmt::format("transient.dilation_strain{}", suffix), r.dilation_strain);
+    ctx.log->info(
+        "point {}: shear rate {:g} -> {:g} 1/s at γ = {:g}: μ {:.4g} -> {:.4g} (peak {:.4g}), φ "
+        "{:.4f} -> {:.4f} ({}), T {:.3g} -> {:.3g} m²/s²",
+        n, p.shear_rate, p.rate_step_shear_rate, p.rate_step_strain, r.mu_before, r.mu_after,
+        r.peak_mu, r.phi_before, r.phi_after,
+        r.dilation_strain >= 0.0
+            ? fmt::format("half of it {:.3g} strain after the step", r.dilation_strain)
+            : std::string("never half"),
+        r.T_before, r.T_after);
   }
   publish({
       {"p0", s.p},
@@ -403,6 +434,23 @@ void TransientShear::finish(core::RunContext& ctx, const std::vector<Condition>&
         stats([](const Point& m) { return m.drained_stop.solid_fraction_change; },
               "stop_phi_change");
       }
+    }
+    if (members.front()->rate_step) {
+      ctx.result.attribute(group, "rate_step_strain", members.front()->step_strain);
+      ctx.result.attribute(group, "rate_step_shear_rate", members.front()->step_rate);
+      stats([](const Point& m) { return m.stepped.mu_before; }, "mu_before_step");
+      stats([](const Point& m) { return m.stepped.mu_after; }, "mu_after_step");
+      stats([](const Point& m) { return m.stepped.phi_before; }, "phi_before_step");
+      stats([](const Point& m) { return m.stepped.phi_after; }, "phi_after_step");
+      stats([](const Point& m) { return m.stepped.T_before; }, "T_before_step");
+      stats([](const Point& m) { return m.stepped.T_after; }, "T_after_step");
+      stats([](const Point& m) { return m.stepped.dilation; }, "dilation");
+      stats([](const Point& m) { return m.stepped.peak_mu; }, "peak_mu_after_step");
+      stats(
+          [&](const Point& m) {
+            return m.stepped.dilation_strain >= 0 ? m.stepped.dilation_strain : nan;
+          },
+          "dilation_strain");
     }
     double liquefied = 0;
     for (const Point* m : members) liquefied += m->metrics.liquefaction_strain >= 0 ? 1 : 0;

@@ -23,6 +23,7 @@
 #include "core/case.hpp"
 #include "core/run.hpp"
 #include "dem_coupling/deck/shear_deck.hpp"
+#include "dem_coupling/kind/rate_step_metrics.hpp"
 #include "dem_coupling/kind/seed_statistics.hpp"
 
 namespace granflow::dem {
@@ -112,6 +113,9 @@ class TransientShear {
     bool drained = false;           // the stop compacted under stop.normal_stress (drainage)
     double stop_normal_stress = 0;  // σ_n of a drained stop, Pa
     DrainedStopMetrics drained_stop;
+    bool rate_step = false;  // the shear rate stepped (rate_step.strain)
+    double step_strain = 0, step_rate = 0;
+    RateStepMetrics stepped;
   };
   // The seed mean, lowest and highest seed of each dem_columns::transient_band column, row by
   // row (rows: the fewest any member has), as PREFIX + NAME_{mean,min,max}; `note` is added to

@@ -288,7 +288,8 @@ TEST(DemPrepare, LooseAndDensePackingsAndTheTransientsFromThem) {
     const auto h5 = dir_ / "loose_drained" / "result.h5";
     const auto sigma =
         granflow::core::read_dataset(h5, "/transient/group_0/stop/normal_stress_mean");
-    const auto phi = granflow::core::read_dataset(h5, "/transient/group_0/stop/solid_fraction_mean");
+    const auto phi =
+        granflow::core::read_dataset(h5, "/transient/group_0/stop/solid_fraction_mean");
     ASSERT_EQ(sigma.size(), 40u);
     // The liquefied packing (p' < 5 % p0) carries no load at the stop; under σ_n = p0 it compacts
     // while the water drains until its skeleton carries σ_n again (1000 spheres: φ 0.577 -> 0.587,
@@ -310,6 +311,50 @@ TEST(DemPrepare, LooseAndDensePackingsAndTheTransientsFromThem) {
               granflow::core::exit_bad_input);
     const std::string out = read(dir_ / "cli.txt");
     EXPECT_NE(out.find("stop.drainage_length"), std::string::npos) << out;
+  }
+  {
+    SCOPED_TRACE("a drained shear in water with a step in the shear rate");
+    ASSERT_EQ(loose_status_, 0) << loose_log_;
+    ASSERT_EQ(run_cli("run shear.yaml --out loose_step --set start.preparation=loose "
+                      "--set liquid.enabled=true --set liquid.viscosity=1e-3 "
+                      "--set control.mode=drained --set control.drainage_length=0.01 "
+                      "--set rate_step.strain=0.15 --set rate_step.shear_rate=20",
+                      dir_),
+              0)
+        << read(dir_ / "cli.txt");
+    const Summary s = Summary::read(dir_ / "loose_step" / "summary.json");
+    const auto h5 = dir_ / "loose_step" / "result.h5";
+    const auto strain = granflow::core::read_dataset(h5, "/transient/group_0/strain");
+    const auto sigma = granflow::core::read_dataset(h5, "/transient/group_0/normal_stress_mean");
+    // Sampled every strain.sample at the faster rate (in whole steps: within 2 %), the same steps
+    // at 1/10 of the rate before the step: 0.002 after it, 0.0002 before (series.tsv: 10 digits).
+    ASSERT_GT(strain.size(), 800u);
+    const double after = strain.back() - strain[strain.size() - 2];
+    EXPECT_NEAR(after, 2e-3, 4e-5);
+    EXPECT_NEAR((strain[1] - strain[0]) / after, 0.1, 1e-7);
+    EXPECT_NEAR(strain.back(), 0.3, 2e-3);
+    // Before the step the liquid has time to drain (k σ_n ≈ 50 1/s against γ̇ = 2 1/s): the grains
+    // carry σ_n (the last 20 % before the step within 15 %: 250 spheres fluctuate by ~10 %) and
+    // the loose packing compacts (1000 spheres: φ 0.5745 -> 0.587). The step up to I ≈ 0.1
+    // dilates it (1000 spheres: -0.012), raises μ (μ(I) rises with I: 0.35 -> 0.45) and T (27x;
+    // T ∝ (d γ̇)² at a fixed φ would be 100x).
+    double before = 0.0;
+    int count = 0;
+    for (std::size_t i = 0; i < strain.size(); ++i)
+      if (strain[i] >= 0.12 && strain[i] <= 0.15) before += sigma[i], ++count;
+    EXPECT_NEAR(before / count, s.get("transient.p0"), 0.15 * s.get("transient.p0"));
+    EXPECT_GT(s.get("transient.phi_before_step") - s.get("transient.phi0"), 0.003);
+    EXPECT_LT(s.get("transient.dilation"), -0.003);
+    EXPECT_GT(s.get("transient.dilation_strain"), 0.0);
+    EXPECT_GT(s.get("transient.mu_after_step"), s.get("transient.mu_before_step"));
+    EXPECT_GT(s.get("transient.T_after_step"), 5.0 * s.get("transient.T_before_step"));
+    // Drained needs a liquid to drain: one line naming the key and exit 2.
+    EXPECT_EQ(run_cli("run shear.yaml --out x --set start.preparation=loose --set "
+                      "control.mode=drained",
+                      dir_),
+              granflow::core::exit_bad_input);
+    const std::string out = read(dir_ / "cli.txt");
+    EXPECT_NE(out.find("control.mode"), std::string::npos) << out;
   }
   {
     SCOPED_TRACE("a bad preparation reference is one line and exit 2");
