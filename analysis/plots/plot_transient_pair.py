@@ -6,7 +6,8 @@ fitted force-chain parameters (calibrate section) dotted; the liquefaction thres
 black. With a stop stage (stop.duration), a third panel: T / flowing T against the time since
 the shear was stopped (log-log), DEM band and continuum; with a drained stop
 (stop.drainage_length), a fourth: sigma_yy / sigma_n against that time (the excess pore pressure
-is 1 - it).
+is 1 - it). With a step in the shear rate (rate_step), a second row: mu = tau / sigma_yy, phi and
+T against gamma, the step marked.
 Usage: plot_transient_pair.py RUN_DIR  ->  RUN_DIR/transient_pair.png"""
 import os
 import sys
@@ -24,8 +25,15 @@ def main(run):
         names = sorted(f_cont["transient_pair"].keys(), key=lambda n: int(n.split("_")[-1]))
         stopped = any("stop" in f_cont["transient_pair"][n]["dem"] for n in names)
         drained = any("stop_normal_stress" in f_cont["transient_pair"][n].attrs for n in names)
+        stepped = any("rate_step_strain" in f_cont["transient_pair"][n].attrs for n in names)
+        drained_shear = any("drainage_length" in f_cont["transient_pair"][n].attrs for n in names)
         panels = 4 if drained else 3 if stopped else 2
-        fig, axes = plt.subplots(1, panels, figsize=(5.3 * panels + 0.4, 4.2))
+        rows = 2 if stepped else 1
+        fig, axes = plt.subplots(rows, max(panels, 3 if stepped else 0),
+                                 figsize=(5.3 * max(panels, 3 if stepped else 0) + 0.4, 4.2 * rows),
+                                 squeeze=False)
+        step_axes = axes[1] if stepped else []
+        axes = axes[0]
         ax_p, ax_t = axes[0], axes[1]
         for k, name in enumerate(names):
             cont = f_cont["transient_pair"][name]
@@ -46,6 +54,28 @@ def main(run):
                     ax.plot(np.asarray(cont["strain_cal"]), np.asarray(cont[q + "_cal"]) / p0,
                             color=color, lw=1.6, ls=":", label="calibrated continuum " + label)
             ax_p.axhline(float(cont.attrs["liquefaction_fraction"]), color="k", ls=":", lw=1)
+            if "rate_step_strain" in cont.attrs:  # mu, phi, T across the step in the rate
+                dem_q = {"mu": np.asarray(dem["shear_stress_mean"]) /
+                         np.asarray(dem["normal_stress_mean"]),
+                         "phi": np.asarray(dem["solid_fraction_mean"]),
+                         "T": np.asarray(dem["granular_temperature_mean"])}
+                for ax, q, band in ((step_axes[1], "phi", "solid_fraction"),
+                                    (step_axes[2], "T", "granular_temperature")):
+                    ax.fill_between(s_dem, np.asarray(dem[band + "_min"]),
+                                    np.asarray(dem[band + "_max"]), color=color, alpha=0.2, lw=0)
+                for ax, q in zip(step_axes, ("mu", "phi", "T")):
+                    ax.plot(s_dem, dem_q[q], color=color, lw=1.2)
+                    ax.axvline(float(cont.attrs["rate_step_strain"]), color="k", ls=":", lw=1)
+                for suffix, ls in (("", "--"), ("_cal", ":")):
+                    if "strain" + suffix not in cont:
+                        continue
+                    s_c = np.asarray(cont["strain" + suffix])
+                    cont_q = (np.asarray(cont["shear_stress" + suffix]) /
+                              np.asarray(cont["normal_stress" + suffix]),
+                              np.asarray(cont["solid_fraction" + suffix]),
+                              np.asarray(cont["granular_temperature" + suffix]))
+                    for ax, y in zip(step_axes, cont_q):
+                        ax.plot(s_c, y, color=color, lw=1.6, ls=ls)
             if "stop" in dem:  # T / flowing T after the stop, each side scaled by its own
                 ax_s = axes[2]
                 t_dem = np.asarray(dem["stop/time"])
@@ -93,9 +123,19 @@ def main(run):
         ax_d.set_xlabel("time since the shear was stopped (s)")
         ax_d.set_ylabel("sigma_yy / sigma_n   (drained: 1 - u / sigma_n)")
         ax_d.grid(alpha=0.3)
+    for ax, label in zip(step_axes, ("mu = tau / sigma_yy", "solid fraction phi",
+                                     "T (m^2/s^2)")):
+        ax.set_xlabel("shear strain gamma   (dotted: the step in the shear rate)")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    if stepped:
+        step_axes[2].set_yscale("log")
+        for ax in axes[panels:]:
+            ax.axis("off")
     ax_p.text(0.98, 0.02, "band: lowest to highest DEM seed; dotted: liquefaction threshold",
               transform=ax_p.transAxes, ha="right", va="bottom", fontsize=7)
-    fig.suptitle("undrained shear from rest: DEM (solid, band), continuum (dashed), calibrated (dotted)")
+    fig.suptitle("{} shear from rest: DEM (solid, band), continuum (dashed), calibrated (dotted)"
+                 .format("drained" if drained_shear else "undrained"))
     fig.tight_layout()
     target = os.path.join(run, "transient_pair.png")
     fig.savefig(target, dpi=120)

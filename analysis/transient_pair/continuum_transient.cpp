@@ -27,6 +27,16 @@ void continuum_transient(const core::Case& condition, double phi0, double p0,
       condition.number("continuum.initial_temperature") * std::pow(d * control.shear_rate, 2);
   control.strain_increment = condition.number("continuum.strain_increment");
   control.max_strain = condition.number("strain.total");
+  if (condition.string("control.mode") == "drained") {
+    control.control = rev::ShearControl::constant_pressure;
+    control.normal_stress =
+        condition.has("control.normal_stress") ? condition.number("control.normal_stress") : p0;
+    control.drainage_length = condition.number("control.drainage_length");
+  }
+  if (condition.has("rate_step.strain")) {
+    control.rate_step_strain = condition.number("rate_step.strain");
+    control.rate_step_shear_rate = condition.number("rate_step.shear_rate");
+  }
   control.steady_tolerance = 0.0;  // never steady: the series covers the DEM's strain
   control.max_steps = std::numeric_limits<long>::max() / 2;
   rev::run_simple_shear(continuum::MultiRegimePoint(settings), control, result);

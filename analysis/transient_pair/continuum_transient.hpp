@@ -15,8 +15,11 @@ namespace granflow::transient_pair {
 // rev::run_simple_shear at constant volume e0 = 1/φ0 − 1 from the skeleton isotropic at p'0 = p0
 // on its yield locus (r_c = √3 p'0), T0 = continuum.initial_temperature × (d γ̇)² (the DEM starts
 // at rest; kinetic theory needs T > 0), run through strain.total (no steady stop), Δγ at most
-// continuum.strain_increment. Throws core::NumericalFailure (step, variable); `result` then
-// holds the series so far.
+// continuum.strain_increment. control.mode drained: from e0, the total normal stress
+// control.normal_stress (default p0) held while the liquid drains over control.drainage_length
+// (the mixed control with the drainage resistance, rev/simple_shear.hpp). With rate_step.strain
+// the shear rate steps to rate_step.shear_rate there. Throws core::NumericalFailure (step,
+// variable); `result` then holds the series so far.
 void continuum_transient(const core::Case& condition, double phi0, double p0,
                          rev::SimpleShearResult& result);
 
@@ -46,6 +49,8 @@ core::Case with_force_chain_values(const core::Case& condition, const core::Sche
 // A DEM transient: the seed mean and band (lowest, highest seed) at the sampled strains.
 struct DemTransient {
   std::vector<double> strain, p_mean, p_min, p_max, tau_mean, tau_min, tau_max, T_mean;
+  // σ_yy and φ seed means over the shear (a rate step's metrics; empty from older DEM runs).
+  std::vector<double> sigma_yy_mean, phi_mean;
   // The shear stopped (stop.duration > 0): time since the stop, T and p' seed means; else empty.
   std::vector<double> stop_time, stop_T_mean, stop_p_mean;
   // A drained stop (stop.drainage_length > 0): σ_yy and φ seed means over the stop; else empty.

@@ -10,8 +10,10 @@
 #include <set>
 #include <span>
 #include <sstream>
+#include <tuple>
 
 #include "analysis/transient_pair/continuum_transient.hpp"
+#include "analysis/transient_pair/pair_stages.hpp"
 #include "continuum/sections/model_sections.hpp"
 #include "core/interrupt.hpp"
 #include "core/numerical_failure.hpp"
@@ -45,10 +47,6 @@ const core::KindEntry& dem_entry(core::KindRegistry& registry, const core::Case&
   return registry.find("dem", "", c.origin());
 }
 
-double relative_error(double model, double data) {
-  return data != 0.0 ? model / data - 1.0 : std::numeric_limits<double>::quiet_NaN();
-}
-
 // "a b c" -> {"a", "b", "c"}; "none" alone -> {}.
 std::vector<std::string> parameter_names(const core::Case& c) {
   std::vector<std::string> out;
@@ -56,17 +54,6 @@ std::vector<std::string> parameter_names(const core::Case& c) {
   for (std::string w; in >> w;)
     if (w != "none") out.push_back(w);
   return out;
-}
-
-struct Thresholds {
-  double liquefaction, residual;  // transient.liquefaction_fraction, transient.residual_fraction
-  double cooling;                 // stop.cooling_fraction
-  double reconsolidation;         // stop.reconsolidation_fraction
-};
-
-// summary.json key of a metric: transient.SIDE.NAME, with .G for condition G of a sweep.
-std::string metric_key(const std::string& side, const std::string& name, const std::string& g) {
-  return "transient." + side + "." + name + g;
 }
 
 // The DEM's seed mean and band of condition `index` beside the continuum (one file holds the
@@ -98,125 +85,6 @@ void write_dem_band(core::RunContext& ctx, const std::filesystem::path& dem_h5, 
   copy_band("stop/");
 }
 
-using MetricPair = std::pair<const char*, std::pair<double, double>>;  // name, {DEM, continuum}
-
-// Each metric of both sides in summary.json (transient.dem.NAME with its seed error _err when the
-// DEM run has one; transient.cont{suffix}.NAME) and as attributes of the group (dem_NAME,
-// cont{suffix}_NAME). The DEM's are written once, with the uncalibrated continuum.
-void write_metrics(core::RunContext& ctx, std::span<const MetricPair> metrics,
-                   const DemTransient& dem, const std::string& group, const std::string& g,
-                   const std::string& suffix) {
-  auto& sum = ctx.summary;
-  const std::string cont = "cont" + suffix;
-  for (const auto& [name, values] : metrics) {
-    if (suffix.empty()) {
-      sum.set(metric_key("dem", name, g), values.first);
-      ctx.result.attribute(group, std::string("dem_") + name, values.first);
-      if (const auto e = dem.metric_err.find(name); e != dem.metric_err.end())
-        sum.set(metric_key("dem", std::string(name) + "_err", g), e->second);
-    }
-    sum.set(metric_key(cont, name, g), values.second);
-    ctx.result.attribute(group, cont + "_" + name, values.second);
-  }
-}
-
-// A time metric of both sides (-1: never reached): transient.rel_err{suffix}.NAME when both reached
-// it, and "T_DEM (DEM) and T_cont (continuum), ratio R" for the log.
-std::string compare_times(core::Summary& sum, const char* name, double dem_time, double cont_time,
-                          const std::string& suffix, const std::string& g) {
-  const auto text = [](double t) { return t > 0 ? fmt::format("{:.4g} s", t) : "never"; };
-  const bool both = dem_time > 0 && cont_time > 0;
-  if (both) sum.set(metric_key("rel_err" + suffix, name, g), relative_error(cont_time, dem_time));
-  return fmt::format("{} (DEM) and {} (continuum){}", text(dem_time), text(cont_time),
-                     both ? fmt::format(", ratio {:.3g}", cont_time / dem_time) : "");
-}
-
-// The shear stopped (stop.duration > 0): the continuum's stop stage from the end of `rev`, its
-// series under group/stop/NAME{suffix}, the cooling metrics of both sides (transient.dem.NAME,
-// transient.cont{suffix}.NAME, transient.rel_err{suffix}.cooling_time); with a drained stop also
-// the reconsolidation metrics. A numerical failure of the continuum's stop is rethrown after the
-// rows so far are written.
-void compare_stop(core::RunContext& ctx, const core::Case& condition, const DemTransient& dem,
-                  const rev::SimpleShearResult& rev, const Thresholds& limits,
-                  const std::string& group, const std::string& g, const std::string& suffix) {
-  rev::SimpleShearSeries stop;
-  const double normal_stress = drained_normal_stress(condition, dem.p0);
-  std::optional<core::NumericalFailure> failure;
-  try {
-    continuum_stop(condition, rev, normal_stress, stop);
-  } catch (const core::NumericalFailure& e) {
-    failure = e;
-  }
-  const bool drained = condition.number("stop.drainage_length") > 0.0;
-  namespace col = core::columns;
-  const std::string model =
-      suffix.empty() ? "continuum" : "continuum with the fitted force-chain parameters";
-  const std::pair<core::Column, const std::vector<double>&> series[] = {
-      {col::described(col::time, "time since the shear was stopped"), stop.time},
-      {col::described(col::mean_stress, "mean stress p' = p_COL + tr(σ_FC)/3, shear stopped"),
-       stop.pressure},
-      {col::described(col::granular_temperature, "granular temperature T, shear stopped"),
-       stop.granular_temperature},
-      {col::described(col::normal_stress, "normal stress σ_yy of the grains, shear stopped"),
-       stop.normal_stress},
-      {col::described(col::solid_fraction, "solid fraction φ, shear stopped"), stop.solid_fraction},
-  };
-  for (const auto& [column, values] : series)
-    ctx.result.write(group + "/stop/" + column.name + suffix, values, column.unit,
-                     model + ": " + column.description);
-  if (failure && drained && condition.boolean("liquid.enabled") &&
-      condition.number("liquid.maximum_packing") < condition.number("collisional.jamming_fraction"))
-    ctx.log->warn(
-        "  the drained stop compacts towards liquid.maximum_packing = {:g}, where η(ν) diverges, "
-        "below collisional.jamming_fraction = {:g}; a packing the DEM compacts past it cannot "
-        "follow (docs/transient_pairs.md, \"Drained reconsolidation\")",
-        condition.number("liquid.maximum_packing"),
-        condition.number("collisional.jamming_fraction"));
-  if (failure) throw *failure;
-  const auto dem_m = dem::stop_metrics(dem.stop_time, dem.stop_T_mean, dem.stop_p_mean,
-                                       dem::residual_mean(dem.strain, dem.T_mean, limits.residual),
-                                       dem.p0, limits.cooling);
-  const auto cont_m = dem::stop_metrics(
-      stop.time, stop.granular_temperature, stop.pressure,
-      dem::residual_mean(rev.series.strain, rev.series.granular_temperature, limits.residual),
-      dem.p0, limits.cooling);
-  auto& sum = ctx.summary;
-  const std::string cont = "cont" + suffix;
-  const MetricPair metrics[] = {
-      {"flowing_T", {dem_m.flowing_temperature, cont_m.flowing_temperature}},
-      {"cooling_time", {dem_m.cooling_time, cont_m.cooling_time}},
-      {"stop_T_over_flowing_T", {dem_m.final_temperature_ratio, cont_m.final_temperature_ratio}},
-      {"stop_p_over_p0", {dem_m.final_p_over_p0, cont_m.final_p_over_p0}},
-  };
-  write_metrics(ctx, metrics, dem, group, g, suffix);
-  ctx.log->info(
-      "  shear stopped: T below {:g} × the flowing T after {}; p' at the end {:.3g} p0 (DEM), "
-      "{:.3g} p0 (continuum)",
-      limits.cooling,
-      compare_times(sum, "cooling_time", dem_m.cooling_time, cont_m.cooling_time, suffix, g),
-      dem_m.final_p_over_p0, cont_m.final_p_over_p0);
-  if (!drained) return;
-  const auto dem_d =
-      dem::drained_stop_metrics(dem.stop_time, dem.stop_sigma_yy_mean, dem.stop_phi_mean, dem.phi0,
-                                normal_stress, limits.reconsolidation);
-  const auto cont_d = dem::drained_stop_metrics(stop.time, stop.normal_stress, stop.solid_fraction,
-                                                dem.phi0, normal_stress, limits.reconsolidation);
-  const MetricPair drained_metrics[] = {
-      {"reconsolidation_time", {dem_d.reconsolidation_time, cont_d.reconsolidation_time}},
-      {"stop_phi", {dem_d.final_solid_fraction, cont_d.final_solid_fraction}},
-      {"stop_phi_change", {dem_d.solid_fraction_change, cont_d.solid_fraction_change}},
-  };
-  write_metrics(ctx, drained_metrics, dem, group, g, suffix);
-  ctx.result.attribute(group, "stop_normal_stress", normal_stress);
-  ctx.log->info(
-      "  drained under σ_n = {:.4g} Pa: σ_yy reached {:g} σ_n after {}; φ {:.4f} -> {:.4f} (DEM), "
-      "{:.4f} (continuum)",
-      normal_stress, limits.reconsolidation,
-      compare_times(sum, "reconsolidation_time", dem_d.reconsolidation_time,
-                    cont_d.reconsolidation_time, suffix, g),
-      dem.phi0, dem_d.final_solid_fraction, cont_d.final_solid_fraction);
-}
-
 // The continuum's undrained shear of one condition beside the DEM's: series under
 // group/NAME{suffix} (results vocabulary), metrics of both sides in summary.json
 // (transient.dem.NAME, transient.cont{suffix}.NAME, transient.rel_err{suffix}.NAME; `g` is the
@@ -237,23 +105,31 @@ bool compare(core::RunContext& ctx, const core::Case& condition, const DemTransi
   namespace col = core::columns;
   const std::string model =
       suffix.empty() ? "continuum" : "continuum with the fitted force-chain parameters";
-  const std::pair<core::Column, const std::vector<double>&> series[] = {
-      {col::strain, s.strain},
-      {col::described(col::mean_stress,
+  const std::tuple<const char*, core::Column, const std::vector<double>&> series[] = {
+      {nullptr, col::strain, s.strain},
+      {nullptr,
+       col::described(col::mean_stress,
                       "mean stress p' = p_COL + p_IC + tr(σ_FC)/3 (the DEM's tr(P)/3)"),
        s.pressure},
-      {col::normal_stress, s.normal_stress},
-      {col::shear_stress, s.shear_stress},
-      {col::described(col::shear_stress, "shear stress τ_FC carried by the force chains"),
+      {nullptr, col::normal_stress, s.normal_stress},
+      {nullptr, col::shear_stress, s.shear_stress},
+      {"shear_stress_force_chains",
+       col::described(col::shear_stress, "shear stress τ_FC carried by the force chains"),
        s.force_chain_shear_stress},
-      {col::granular_temperature, s.granular_temperature},
+      {"shear_stress_collisional",
+       col::described(col::shear_stress, "shear stress τ_COL of the collisions (kinetic theory)"),
+       s.collisional_shear_stress},
+      {"shear_stress_liquid",
+       col::described(col::shear_stress,
+                      "shear stress τ_L of the liquid (mixture viscosity η(ν) and the contacts' "
+                      "viscous share)"),
+       s.liquid_shear_stress},
+      {nullptr, col::granular_temperature, s.granular_temperature},
+      {nullptr, col::solid_fraction, s.solid_fraction},
   };
-  for (std::size_t k = 0; k < std::size(series); ++k) {
-    const auto& [column, values] = series[k];
-    const std::string name = k == 4 ? "shear_stress_force_chains" : column.name;
-    ctx.result.write(group + "/" + name + suffix, values, column.unit,
+  for (const auto& [name, column, values] : series)
+    ctx.result.write(group + "/" + (name ? name : column.name) + suffix, values, column.unit,
                      model + ": " + column.description);
-  }
   if (failed) {
     ctx.result.flush();
     return false;
@@ -294,6 +170,8 @@ bool compare(core::RunContext& ctx, const core::Case& condition, const DemTransi
   const bool within = std::abs(cont_m.residual_tau - dem_m.residual_tau) <= 2.0 * band_err;
   if (suffix.empty()) sum.set(metric_key("dem", "residual_tau_band", g), band_err);
   sum.set(metric_key(cont, "residual_tau_within_band", g), within ? 1 : 0);
+  if (condition.has("rate_step.strain"))
+    compare_rate_step(ctx, condition, dem, rev, limits, group, g, suffix);
   if (!dem.stop_time.empty()) try {
       compare_stop(ctx, condition, dem, rev, limits, group, g, suffix);
     } catch (const core::NumericalFailure& e) {
@@ -405,8 +283,12 @@ void check_transient_pair_case(const core::Case& c) {
   if (!c.has("start.preparation"))
     c.fail("start.preparation",
            "a kind: dem_prepare run directory (both sides start from its prepared packing)");
-  if (c.string("control.mode") != "constant_volume")
-    c.fail("control.mode", "constant_volume (the undrained test)");
+  if (const std::string mode = c.string("control.mode"); mode == "constant_pressure")
+    c.fail("control.mode", "constant_volume (the undrained test) or drained");
+  if (c.string("control.mode") == "drained" && !c.boolean("force_chains.enabled"))
+    c.fail("control.mode",
+           "constant_volume without the force chains (a drained continuum solves σ_yy with its "
+           "skeleton: force_chains.enabled)");
   if (!c.boolean("collisional.enabled"))
     c.fail("collisional.enabled", "true (the continuum side carries T and the collisions)");
   const auto names = parameter_names(c);
@@ -497,22 +379,44 @@ int run_transient_pair_case(core::RunContext& ctx) {
     t.tau_max = core::read_dataset(h5, group + tau_name + band::band_max);
     const std::string T_name = band::transient_band[3].column.name;  // T
     t.T_mean = core::read_dataset(h5, group + T_name + band::band_mean);
+    const std::string sigma_name = band::transient_band[2].column.name;  // σ_yy
+    const std::string phi_name = band::transient_band[6].column.name;    // φ
+    if (core::dataset_exists(h5, group + phi_name + band::band_mean)) {
+      t.sigma_yy_mean = core::read_dataset(h5, group + sigma_name + band::band_mean);
+      t.phi_mean = core::read_dataset(h5, group + phi_name + band::band_mean);
+    }
     if (core::dataset_exists(h5, group + "stop/" + core::columns::time.name)) {
       t.stop_time = core::read_dataset(h5, group + "stop/" + core::columns::time.name);
       t.stop_T_mean = core::read_dataset(h5, group + "stop/" + T_name + band::band_mean);
       t.stop_p_mean = core::read_dataset(h5, group + "stop/" + p_name + band::band_mean);
-      const std::string sigma_name = band::transient_band[2].column.name;  // σ_yy
-      const std::string phi_name = band::transient_band[6].column.name;    // φ
       if (core::dataset_exists(h5, group + "stop/" + phi_name + band::band_mean)) {
         t.stop_sigma_yy_mean =
             core::read_dataset(h5, group + "stop/" + sigma_name + band::band_mean);
         t.stop_phi_mean = core::read_dataset(h5, group + "stop/" + phi_name + band::band_mean);
       }
     }
-    for (const char* name :
-         {"peak_tau", "peak_strain", "residual_tau", "residual_p", "p_final_over_p0",
-          "liquefaction_strain", "flowing_T", "cooling_time", "stop_T_over_flowing_T",
-          "stop_p_over_p0", "reconsolidation_time", "stop_phi", "stop_phi_change"})
+    for (const char* name : {"peak_tau",
+                             "peak_strain",
+                             "residual_tau",
+                             "residual_p",
+                             "p_final_over_p0",
+                             "liquefaction_strain",
+                             "flowing_T",
+                             "cooling_time",
+                             "stop_T_over_flowing_T",
+                             "stop_p_over_p0",
+                             "reconsolidation_time",
+                             "stop_phi",
+                             "stop_phi_change",
+                             "mu_before_step",
+                             "mu_after_step",
+                             "phi_before_step",
+                             "phi_after_step",
+                             "T_before_step",
+                             "T_after_step",
+                             "dilation",
+                             "peak_mu_after_step",
+                             "dilation_strain"})
       try {
         t.metric_err[name] = core::read_number_attribute(h5, group, std::string("err_") + name);
       } catch (const std::exception&) {  // no seed liquefied: no liquefaction strain
@@ -559,6 +463,14 @@ int run_transient_pair_case(core::RunContext& ctx) {
     ctx.result.attribute(group, "shear_rate", conditions[g].number("shear_rate"));
     ctx.result.attribute(group, "liquefaction_fraction", limits.liquefaction);
     ctx.result.attribute(group, "dem_result", h5.string());
+    if (conditions[g].string("control.mode") == "drained") {  // the total σ_n and H
+      ctx.result.attribute(group, "drainage_length",
+                           conditions[g].number("control.drainage_length"));
+      ctx.result.attribute(group, "normal_stress",
+                           conditions[g].has("control.normal_stress")
+                               ? conditions[g].number("control.normal_stress")
+                               : dem_side[g].p0);
+    }
     sum.set("transient.phi0" + key, dem_side[g].phi0);
     sum.set("transient.p0" + key, dem_side[g].p0);
     write_dem_band(ctx, h5, g, group);
