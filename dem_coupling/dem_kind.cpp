@@ -81,11 +81,15 @@ void check_shear(const core::Case& sweep_case) {
     if (c.string("control.mode") == "constant_pressure" && !c.has("control.normal_stress"))
       c.fail("control.normal_stress",
              "missing required key for constant_pressure; expected σ_yy > 0 [Pa]");
-    if (c.string("control.mode") == "drained" && !c.has("control.normal_stress") &&
-        !c.has("start.preparation"))
-      c.fail("control.normal_stress",
-             "missing required key for drained without start.preparation; expected the total "
-             "σ_n > 0 [Pa]");
+    // Drained shear and rate steps are transients: from a prepared state, with its metrics.
+    if (c.string("control.mode") == "drained" && !c.has("start.preparation"))
+      c.fail("control.mode",
+             "constant_volume or constant_pressure without start.preparation (a drained shear "
+             "starts from a prepared packing, docs/transient_dem.md)");
+    if (c.has("rate_step.strain") && !c.has("start.preparation"))
+      c.fail("rate_step.strain",
+             "absent without start.preparation (a rate step is a transient from a prepared "
+             "packing)");
     if (c.has("rate_step.strain") != c.has("rate_step.shear_rate"))
       c.fail(c.has("rate_step.strain") ? "rate_step.shear_rate" : "rate_step.strain",
              "missing: a rate step needs both rate_step.strain and rate_step.shear_rate");

@@ -12,8 +12,8 @@
 #include "analysis/calibration/calibration.hpp"
 #include "analysis/pair/pair_columns.hpp"
 #include "analysis/pair/pair_report.hpp"
-#include "continuum/sections/model_sections.hpp"
 #include "continuum/rev/simple_shear.hpp"
+#include "continuum/sections/model_sections.hpp"
 #include "core/interrupt.hpp"
 #include "core/sweep_scheduler.hpp"
 #include "dem_coupling/dem_kind.hpp"
@@ -88,8 +88,8 @@ void write_model_curves(core::RunContext& ctx, const std::vector<calibration::Da
     const double eta0 = std::isfinite(at.liquid_viscosity) ? at.liquid_viscosity : 0.0;
     curve["viscous_number"].push_back(eta0 * at.shear_rate / sigma);
     const double rho_p = model.settings.collisional_parameters.particle_density;
-    curve["inertial_number"].push_back(at.shear_rate * model.settings.collisional_parameters.diameter /
-                         std::sqrt(sigma / rho_p));
+    curve["inertial_number"].push_back(
+        at.shear_rate * model.settings.collisional_parameters.diameter / std::sqrt(sigma / rho_p));
     const auto add = [&](const std::string& tag, const calibration::CalibratedModel& m) {
       const auto s = calibration::predict(m, at);
       curve["friction_" + tag].push_back(s.ok ? s.friction : NAN);
@@ -137,7 +137,8 @@ void write_viscous_curves(core::RunContext& ctx, const std::vector<calibration::
   std::set<double> viscosities;
   for (const auto* p : wet) viscosities.insert(p->liquid_viscosity);
   if (viscosities.size() < 2) return;
-  std::sort(wet.begin(), wet.end(), [](auto* a, auto* b) { return a->normal_stress < b->normal_stress; });
+  std::sort(wet.begin(), wet.end(),
+            [](auto* a, auto* b) { return a->normal_stress < b->normal_stress; });
   std::vector<std::vector<const calibration::DataPoint*>> levels;
   for (const auto* p : wet) {
     if (levels.empty() || p->normal_stress > 1.3 * levels.back().front()->normal_stress)
@@ -172,9 +173,10 @@ void write_viscous_curves(core::RunContext& ctx, const std::vector<calibration::
     }
     const std::string group = fmt::format("/pair/curve_J/{}/", level);
     for (const auto& [name, values] : curve) {
-      const PairColumn column = name == core::columns::viscous_number.name
-                                    ? PairColumn{name, "1", core::columns::viscous_number.description}
-                                    : pair_column(name);
+      const PairColumn column =
+          name == core::columns::viscous_number.name
+              ? PairColumn{name, "1", core::columns::viscous_number.description}
+              : pair_column(name);
       ctx.result.write(group + name, values, column.unit,
                        fmt::format("{}, along a smooth η0 sweep at γ̇ = {:g} 1/s, σ_yy = {:g} Pa",
                                    column.description, gamma_dot, sigma));
@@ -225,8 +227,7 @@ core::Schema pair_schema() {
              "parameters to fit (names of kind: calibrate's fit.parameters, separated by "
              "spaces); none: no calibration")
       .default_value("none");
-  cal.string("observables",
-             "observables fitted: friction, solid_fraction, scaled_temperature")
+  cal.string("observables", "observables fitted: friction, solid_fraction, scaled_temperature")
       .default_value("friction solid_fraction scaled_temperature");
   cal.integer("starts", "starting points of the fit (as kind: calibrate's fit.starts)")
       .default_value("8")
@@ -235,17 +236,26 @@ core::Schema pair_schema() {
 }
 
 void check_pair_case(const core::Case& c) {
+  if (c.string("control.mode") == "drained")
+    c.fail("control.mode",
+           "constant_volume or constant_pressure (a steady pair; drained shear is a transient: "
+           "kind: transient_pair)");
+  if (c.has("rate_step.strain"))
+    c.fail("rate_step.strain",
+           "absent (a steady pair; a rate step is a transient: kind: "
+           "transient_pair)");
   if (!c.boolean("collisional.enabled"))
     c.fail("collisional.enabled", "true (the continuum side is the collisional steady shear)");
   for (const auto& name : split_words(c.string("calibrate.parameters"))) {
     if (name == "none") continue;
     try {
       const auto& spec = calibration::parameter_spec(name);
-      if ((spec.case_key.rfind("force_chains.", 0) == 0 || spec.case_key.rfind("steady.", 0) == 0) &&
+      if ((spec.case_key.rfind("force_chains.", 0) == 0 ||
+           spec.case_key.rfind("steady.", 0) == 0) &&
           !c.boolean("force_chains.enabled"))
-        c.fail("calibrate.parameters",
-               fmt::format("'{}' is a force-chain parameter: needs force_chains.enabled: true",
-                           name));
+        c.fail(
+            "calibrate.parameters",
+            fmt::format("'{}' is a force-chain parameter: needs force_chains.enabled: true", name));
     } catch (const std::invalid_argument& e) {
       c.fail("calibrate.parameters", e.what());
     }
@@ -297,13 +307,14 @@ int run_pair_case(core::RunContext& ctx) {
   calibration::CalibratedModel kinetic = model;
   kinetic.settings.force_chains = false;
   const bool in_parallel = model.settings.force_chains;
-  log.info("continuum: {}",
-           in_parallel ? fmt::format("in-parallel steady state (force chains on the critical "
-                                     "state, μ_FC = {:.4g}; docs/model/steady_state.md), beside "
-                                     "kinetic theory alone",
-                                     calibration::critical_state_friction(
-                                         model.settings.force_chain_parameters))
-                       : std::string("kinetic theory alone (force_chains.enabled: false)"));
+  log.info(
+      "continuum: {}",
+      in_parallel
+          ? fmt::format("in-parallel steady state (force chains on the critical "
+                        "state, μ_FC = {:.4g}; docs/model/steady_state.md), beside "
+                        "kinetic theory alone",
+                        calibration::critical_state_friction(model.settings.force_chain_parameters))
+          : std::string("kinetic theory alone (force_chains.enabled: false)"));
 
   if (const auto caveat = calibration::in_parallel_caveat(model.settings); !caveat.empty())
     log.warn("{}", caveat);
@@ -338,7 +349,8 @@ int run_pair_case(core::RunContext& ctx) {
       sum.set("pair.fit.inside_domain", r.inside_domain ? 1 : 0);
       for (const auto o : observables) {
         const auto& on = calibration::observable_names()[static_cast<int>(o)];
-        sum.set("pair.holdout.rel_err." + on, calibration::mean_relative_error(calibrated, held, o));
+        sum.set("pair.holdout.rel_err." + on,
+                calibration::mean_relative_error(calibrated, held, o));
         sum.set("pair.holdout.rel_err_uncalibrated." + on,
                 calibration::mean_relative_error(model, held, o));
       }
@@ -452,7 +464,8 @@ int run_pair_case(core::RunContext& ctx) {
     const auto ok = [](const calibration::SteadyShearState& st, double v) {
       return st.ok ? v : NAN;
     };
-    const double tau = s.shear_stress, p_total = s.force_chain_normal_stress + s.collisional_pressure;
+    const double tau = s.shear_stress,
+                 p_total = s.force_chain_normal_stress + s.collisional_pressure;
     const std::map<std::string, double> more = {
         {"friction_kt", ok(s_kt, s_kt.friction)},
         {"solid_fraction_kt", ok(s_kt, s_kt.solid_fraction)},
@@ -516,8 +529,9 @@ int run_pair_case(core::RunContext& ctx) {
   };
   write("viscous_number_dem", viscous_cols[0]);
   write("viscous_number_cont", viscous_cols[1]);
-  ctx.result.write("/pair", core::columns::described(core::columns::stokes_number,
-                                                     "Stokes number I²/J of the DEM point (inf dry)"),
+  ctx.result.write("/pair",
+                   core::columns::described(core::columns::stokes_number,
+                                            "Stokes number I²/J of the DEM point (inf dry)"),
                    viscous_cols[2]);
   write("friction_rev", rev_cols[0]);
   write("solid_fraction_rev", rev_cols[1]);
@@ -564,13 +578,14 @@ int run_pair_case(core::RunContext& ctx) {
                        "1: left out of the calibration (calibrate section), 0: fitted");
     } else if (name.rfind("share_", 0) == 0) {
       ctx.result.write("/pair/" + name, values, "1",
-                       name == "share_p_fc" ? "σ_yy,FC/(σ_yy,FC + p_COL), the force chains' share "
-                                              "of the normal stress (continuum)"
-                                            : "share of τ carried by the " +
-                                                  std::string(name == "share_tau_fc"    ? "force chains"
-                                                              : name == "share_tau_col" ? "collisions"
-                                                                                        : "liquid") +
-                                                  " (continuum)");
+                       name == "share_p_fc"
+                           ? "σ_yy,FC/(σ_yy,FC + p_COL), the force chains' share "
+                             "of the normal stress (continuum)"
+                           : "share of τ carried by the " +
+                                 std::string(name == "share_tau_fc"    ? "force chains"
+                                             : name == "share_tau_col" ? "collisions"
+                                                                       : "liquid") +
+                                 " (continuum)");
     } else {
       write(name, values);
     }
@@ -582,9 +597,13 @@ int run_pair_case(core::RunContext& ctx) {
 }
 
 void register_pair_kinds(core::KindRegistry& registry) {
-  core::KindEntry entry{"pair", "",
+  core::KindEntry entry{"pair",
+                        "",
                         "DEM and continuum steady simple shear side by side (one material)",
-                        pair_schema(), check_pair_case, run_pair_case, "cases/pair/dry_pair.yaml"};
+                        pair_schema(),
+                        check_pair_case,
+                        run_pair_case,
+                        "cases/pair/dry_pair.yaml"};
   entry.distributes_conditions = true;
   entry.report = pair_report_section;
   registry.add(std::move(entry));

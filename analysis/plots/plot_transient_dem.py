@@ -4,7 +4,9 @@ docs/transient_dem.md): p'(gamma)/p0 and tau(gamma)/p0 with the band (lowest to 
 and the seed mean, from /transient/group_G of result.h5 (dem_coupling/kind/transient.hpp); the
 liquefaction threshold f p0 (attribute liquefaction_fraction) is drawn on the p' panel. With a
 stop stage (/transient/group_G/stop) a third panel, T / flowing T after the stop (log-log); with
-a drained stop (attribute normal_stress of the stop) a fourth, sigma_yy / sigma_n and phi.
+a drained stop (attribute normal_stress of the stop) a fourth, sigma_yy / sigma_n and phi. With a
+step in the shear rate (attribute rate_step_strain) a second row: mu = tau / sigma_yy, phi and T
+against gamma, the step marked.
 Usage: plot_transient_dem.py RUN_DIR [RUN_DIR ...] [--out FILE.png]
 One run: RUN_DIR/transient.png. Several (e.g. a loose and a dense packing): all on one figure,
 written to --out (default: transient.png in the first RUN_DIR)."""
@@ -34,6 +36,8 @@ def groups(run_dir):
                 d["flowing_T"] = float(g.attrs["mean_flowing_T"])
                 if "normal_stress" in stop.attrs:
                     d["sigma_n"] = float(stop.attrs["normal_stress"])
+            if "rate_step_strain" in g.attrs:
+                d["step"] = float(g.attrs["rate_step_strain"])
             d["p0"] = float(g.attrs["mean_p0"])
             d["phi0"] = float(g.attrs["mean_phi0"])
             d["fraction"] = float(g.attrs["liquefaction_fraction"])
@@ -61,8 +65,16 @@ def main(argv):
         return
     stopped = any("stop" in d for d in data)
     drained = any("sigma_n" in d for d in data)
+    stepped = any("step" in d for d in data)
     panels = 4 if drained else 3 if stopped else 2
-    fig, axes = plt.subplots(1, panels, figsize=(5.3 * panels + 0.4, 4.2))
+    columns = max(panels, 3 if stepped else 0)
+    fig, axes = plt.subplots(2 if stepped else 1, columns, figsize=(5.3 * columns + 0.4,
+                                                                    4.2 * (2 if stepped else 1)),
+                             squeeze=False)
+    step_axes = axes[1] if stepped else []
+    axes = axes[0]
+    for ax in axes[panels:]:
+        ax.axis("off")
     ax_p, ax_t = axes[0], axes[1]
     for k, d in enumerate(data):
         color = "C{}".format(k)
@@ -72,6 +84,16 @@ def main(argv):
                             color=color, alpha=0.25, lw=0)
             ax.plot(s, d[name + "_mean"] / d["p0"], color=color, lw=1.4, label=d["label"])
         ax_p.axhline(d["fraction"], color="k", ls=":", lw=1)
+        if "step" in d:  # mu, phi, T across the step in the shear rate
+            mu = d["shear_stress_mean"] / d["normal_stress_mean"]
+            step_axes[0].plot(s, mu, color=color, lw=1.4)
+            for ax, name in ((step_axes[1], "solid_fraction"),
+                             (step_axes[2], "granular_temperature")):
+                ax.fill_between(s, d[name + "_min"], d[name + "_max"], color=color, alpha=0.25,
+                                lw=0)
+                ax.plot(s, d[name + "_mean"], color=color, lw=1.4)
+            for ax in step_axes:
+                ax.axvline(d["step"], color="k", ls=":", lw=1)
         if "stop" in d:
             t = d["stop"]["time"]
             T = "granular_temperature"
@@ -107,7 +129,14 @@ def main(argv):
         axes[3].set_xlabel("time since the shear was stopped (s)")
         axes[3].set_ylabel("sigma_yy / sigma_n (solid)")
         axes[3].grid(alpha=0.3)
-    fig.suptitle("constant-volume shear from rest: seed mean and band (lowest to highest seed)")
+    for ax, label in zip(step_axes, ("mu = tau / sigma_yy (seed means)", "solid fraction phi",
+                                     "T (m^2/s^2)")):
+        ax.set_xlabel("shear strain gamma   (dotted: the step in the shear rate)")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    if stepped:
+        step_axes[2].set_yscale("log")
+    fig.suptitle("shear from rest: seed mean and band (lowest to highest seed)")
     fig.tight_layout()
     target = out or os.path.join(runs[0], "transient.png")
     fig.savefig(target, dpi=120)

@@ -242,9 +242,10 @@ void check_dem_run(const core::Case& c) {
 core::Schema transient_pair_schema() {
   core::Schema s = core::kind_header(
       "transient_pair", "",
-      "Undrained shear from rest of a prepared packing in the DEM (kind: dem from "
+      "Undrained (or drained) shear from rest of a prepared packing in the DEM (kind: dem from "
       "start.preparation, several seeds) and in the multi-regime REV from the same φ0, p0 and "
-      "γ̇; p'(γ), τ(γ) side by side with the transition metrics (peak τ, liquefaction, residual).");
+      "γ̇ (and its steps); p'(γ), τ(γ) side by side with the transition metrics (peak τ, "
+      "liquefaction, residual; the rate step's μ, φ, T and dilation).");
   const core::Schema dem = dem::shear_schema();
   const std::set<std::string> header = {"kind", "test", "name", "description"};
   for (const auto& child : dem.children())
@@ -493,7 +494,8 @@ int run_transient_pair_case(core::RunContext& ctx) {
 void register_transient_pair_kinds(core::KindRegistry& registry) {
   core::KindEntry entry{"transient_pair",
                         "",
-                        "undrained shear from rest, DEM and continuum side by side (one material)",
+                        "undrained or drained shear from rest, DEM and continuum side by side "
+                        "(one material)",
                         transient_pair_schema(),
                         check_transient_pair_case,
                         run_transient_pair_case,

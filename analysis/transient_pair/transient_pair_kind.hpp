@@ -4,7 +4,9 @@
 // from one case file and so one material, started from the same state (the DEM's prepared φ0 and
 // p0) and driven at the same γ̇; side by side p'(γ), σ_yy(γ), τ(γ) with the DEM's seed band and
 // the transition metrics of both (dem::transient_metrics: peak τ and its strain, the strain at
-// liquefaction, the residual τ).
+// liquefaction, the residual τ). control.mode drained holds the total normal stress while the
+// liquid drains over a length (both sides: the lumped Darcy law), and rate_step steps the shear
+// rate (pair_stages.hpp compares the steps and the stops).
 #pragma once
 
 #include "core/kind_registry.hpp"

@@ -56,6 +56,7 @@
 #include "dem_coupling/driver/contact_probe.hpp"
 #include "dem_coupling/driver/initial_fluctuations.hpp"
 #include "dem_coupling/driver/prepare_stage.hpp"
+#include "dem_coupling/driver/sample_parts.hpp"
 #include "dem_coupling/driver/series_output.hpp"
 #include "dem_coupling/driver/shear_schedule.hpp"
 #include "dem_coupling/driver/shear_stop.hpp"
@@ -78,7 +79,6 @@
 
 namespace {
 
-using granflow::dem::FluidStress;
 using granflow::dem::ShearSample;
 using granflow::dem::write_profile_row;
 using granflow::dem::write_series_header;
@@ -157,65 +157,6 @@ double stress_average_entry(void* handle, int k) {
   const double v = *value;
   std::free(value);
   return v;
-}
-
-// Entry `offset` (0-based, dem::fluid_le_vector; f_gf_fluid[offset + 1] in a deck) of the fix's
-// global vector; collective (the fix reduces its sums over ranks), so every rank calls it. The
-// value is malloc'ed by library.cpp.
-double fluid_entry(void* handle, int offset, int rank) {
-  void* p = lammps_extract_fix(handle, "gf_fluid", 0, 1, offset, 0);
-  if (p == nullptr) usage_error(rank, "deck defines gf_viscosity but no fix gf_fluid (fluid/le)");
-  double* value = static_cast<double*>(p);
-  const double v = *value;
-  std::free(value);
-  return v;
-}
-
-// τ_lub = -(P_lub,n,xy + P_lub,t,xy), τ_drag = -P_drag,xy, τ_kin = -P^kin_xy,
-// τ_contact = -P^vir_xy - τ_lub - τ_drag (the fix's virial is part of compute gf_virial), so
-// the four parts sum to τ = -(P^vir_xy + P^kin_xy) exactly.
-FluidStress fluid_stress(void* handle, const ShearSample& s, int rank) {
-  FluidStress f;
-  namespace v = granflow::dem::fluid_le_vector;
-  f.lubrication = -(fluid_entry(handle, v::lubrication_normal + v::xy, rank) +
-                    fluid_entry(handle, v::lubrication_tangential + v::xy, rank));
-  f.drag = -fluid_entry(handle, v::drag + v::xy, rank);
-  f.kinetic = -s.kinetic_stress[3];
-  f.contact = -s.virial_stress[3] - f.lubrication - f.drag;
-  f.lubricated_pairs = fluid_entry(handle, v::lubricated_pairs, rank);
-  for (int k = 0; k < 3; ++k)  // xx yy zz: the effective (solid) p' = p - pressure
-    f.pressure += (fluid_entry(handle, v::lubrication_normal + k, rank) +
-                   fluid_entry(handle, v::lubrication_tangential + k, rank) +
-                   fluid_entry(handle, v::drag + k, rank)) /
-                  3.0;
-  return f;
-}
-
-// Mean overlap of the touching pairs, <δ> = Σ δ_ij / N_c with δ_ij = r_i + r_j - |x_i - x_j| > 0,
-// over the pair's half neighbour list (a pair with a ghost is listed on both ranks: weight 1/2,
-// as accumulate_contacts). How soft the sample is: δ/d of a few % above jamming (O'Hern et al.
-// 2003). Collective; 0 without contacts.
-double mean_overlap(void* handle, const LAMMPS_NS::LAMMPS& lmp) {
-  std::array<double, 2> local{}, global{};  // Σ w δ, Σ w
-  if (const LAMMPS_NS::NeighList* list = lmp.force->pair->list) {
-    const int nlocal = *static_cast<int*>(lammps_extract_global(handle, "nlocal"));
-    auto** x = static_cast<double**>(lammps_extract_atom(handle, "x"));
-    const auto* radius = static_cast<double*>(lammps_extract_atom(handle, "radius"));
-    for (int ii = 0; ii < list->inum; ++ii) {
-      const int i = list->ilist[ii];
-      for (int jj = 0; jj < list->numneigh[i]; ++jj) {
-        const int j = list->firstneigh[i][jj] & NEIGHMASK;
-        const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
-        const double overlap = radius[i] + radius[j] - std::sqrt(dx * dx + dy * dy + dz * dz);
-        if (overlap <= 0.0) continue;
-        const double w = j < nlocal ? 1.0 : 0.5;
-        local[0] += w * overlap;
-        local[1] += w;
-      }
-    }
-  }
-  MPI_Allreduce(local.data(), global.data(), 2, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
-  return global[1] > 0.0 ? global[0] / global[1] : 0.0;
 }
 
 // Stops the run (all ranks see the same global sample) with exit code 3.
@@ -371,6 +312,8 @@ int main(int argc, char** argv) {
                 "deck: gf_drainage_length needs an immersed deck (gf_viscosity), without the "
                 "servo or gf_check_every");
   if (lmp->force->pair == nullptr) usage_error(rank, "deck defines no pair style");
+  if (wet && lmp->modify->find_fix("gf_fluid") < 0)
+    usage_error(rank, "deck defines gf_viscosity but no fix gf_fluid (fluid/le)");
   // Dry decks define `fix gf_stress all ave/time 1 n n c_gf_virial[1..6]` (n = gf_sample_every):
   // the contact virial averaged over every step of the interval that ends at each sample, read
   // instead of the instant (and so also by the servo). Its windows end on multiples of n.
@@ -393,7 +336,7 @@ int main(int argc, char** argv) {
                  bins, bins - 1);
   }
 
-  if (const double overlap = mean_overlap(handle, *lmp); rank == 0)
+  if (const double overlap = granflow::dem::mean_overlap(handle, *lmp); rank == 0)
     std::printf(
         "granflow-dem: shear starts at mean overlap <delta> = %.6g m of the touching pairs\n",
         overlap);
@@ -444,12 +387,12 @@ int main(int argc, char** argv) {
     s.time = double(s.step - shear_begin) * dt;
     s.strain = schedule.strain_after((rate > 0.0 ? s.step : strain_end) - shear_begin, dt);
     check_sample(s, rank);
-    const double overlap = mean_overlap(handle, *lmp);
+    const double overlap = granflow::dem::mean_overlap(handle, *lmp);
     // Z without rattlers, the non-rattler fraction and the fabric (contact_probe.hpp)
     const granflow::dem::NetworkState network =
         granflow::dem::probe_contacts(handle, *lmp, {}).network;
-    FluidStress fluid;
-    if (wet) fluid = fluid_stress(handle, s, rank);
+    granflow::dem::FluidStress fluid;
+    if (wet) fluid = granflow::dem::fluid_stress(handle, s);
     if (rank == 0) {
       write_series_row(series, s, overlap, network, wet ? &fluid : nullptr);
       write_profile_row(profile, s);
