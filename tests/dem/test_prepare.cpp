@@ -336,7 +336,7 @@ TEST(DemPrepare, LooseAndDensePackingsAndTheTransientsFromThem) {
     // Before the step the liquid has time to drain (k σ_n ≈ 50 1/s against γ̇ = 2 1/s): the grains
     // carry σ_n (the last 20 % before the step within 15 %: 250 spheres fluctuate by ~10 %) and
     // the loose packing compacts (1000 spheres: φ 0.5745 -> 0.587). The step up to I ≈ 0.1
-    // dilates it (1000 spheres: -0.012), raises μ (μ(I) rises with I: 0.35 -> 0.45) and T (27x;
+    // dilates it (1000 spheres: -0.0115), raises μ (μ(I) rises with I: 0.39 -> 0.45) and T (30x;
     // T ∝ (d γ̇)² at a fixed φ would be 100x).
     double before = 0.0;
     int count = 0;

@@ -294,7 +294,7 @@ TEST(TransientPair, DrainedShearWithARateStepOnBothSides) {
     EXPECT_GT(s.get(key + "T_after_step"), 5.0 * s.get(key + "T_before_step")) << side;
   }
   // The DEM dilates after the step (250 spheres, 0.15 strain after it: measured -0.0019; 1000
-  // spheres over 0.3: -0.012). This continuum has no dense-branch stress to take over σ_n from
+  // spheres over 0.3: -0.0115). This continuum has no dense-branch stress to take over σ_n from
   // its skeleton, which goes on compacting to its critical state (measured +0.002): the shipped
   // case's dense-branch closures dilate it (docs/transient_pairs.md).
   EXPECT_LT(s.get("transient.dem.dilation"), -0.001);
