@@ -82,10 +82,11 @@ void check_shear(const core::Case& sweep_case) {
       c.fail("control.normal_stress",
              "missing required key for constant_pressure; expected σ_yy > 0 [Pa]");
     // Drained shear and rate steps are transients: from a prepared state, with its metrics.
-    if (c.string("control.mode") == "drained" && !c.has("start.preparation"))
+    if (const std::string mode = c.string("control.mode");
+        (mode == "drained" || mode == "damped_height") && !c.has("start.preparation"))
       c.fail("control.mode",
-             "constant_volume or constant_pressure without start.preparation (a drained shear "
-             "starts from a prepared packing, docs/transient_dem.md)");
+             "constant_volume or constant_pressure without start.preparation (a drained or "
+             "damped shear starts from a prepared packing, docs/transient_dem.md)");
     if (c.has("rate_step.strain") && !c.has("start.preparation"))
       c.fail("rate_step.strain",
              "absent without start.preparation (a rate step is a transient from a prepared "

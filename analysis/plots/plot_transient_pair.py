@@ -27,6 +27,7 @@ def main(run):
         drained = any("stop_normal_stress" in f_cont["transient_pair"][n].attrs for n in names)
         stepped = any("rate_step_strain" in f_cont["transient_pair"][n].attrs for n in names)
         drained_shear = any("drainage_length" in f_cont["transient_pair"][n].attrs for n in names)
+        damped_shear = any("height_resistance" in f_cont["transient_pair"][n].attrs for n in names)
         panels = 4 if drained else 3 if stopped else 2
         rows = 2 if stepped else 1
         fig, axes = plt.subplots(rows, max(panels, 3 if stepped else 0),
@@ -135,7 +136,8 @@ def main(run):
     ax_p.text(0.98, 0.02, "band: lowest to highest DEM seed; dotted: liquefaction threshold",
               transform=ax_p.transAxes, ha="right", va="bottom", fontsize=7)
     fig.suptitle("{} shear from rest: DEM (solid, band), continuum (dashed), calibrated (dotted)"
-                 .format("drained" if drained_shear else "undrained"))
+                 .format("drained" if drained_shear else
+                         "constant normal stress" if damped_shear else "undrained"))
     fig.tight_layout()
     target = os.path.join(run, "transient_pair.png")
     fig.savefig(target, dpi=120)

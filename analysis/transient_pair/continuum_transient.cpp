@@ -33,6 +33,12 @@ void continuum_transient(const core::Case& condition, double phi0, double p0,
         condition.has("control.normal_stress") ? condition.number("control.normal_stress") : p0;
     control.drainage_length = condition.number("control.drainage_length");
   }
+  if (condition.string("control.mode") == "damped_height") {
+    control.control = rev::ShearControl::constant_pressure;
+    control.normal_stress =
+        condition.has("control.normal_stress") ? condition.number("control.normal_stress") : p0;
+    control.height_resistance = condition.number("control.height_resistance");
+  }
   if (condition.has("rate_step.strain")) {
     control.rate_step_strain = condition.number("rate_step.strain");
     control.rate_step_shear_rate = condition.number("rate_step.shear_rate");

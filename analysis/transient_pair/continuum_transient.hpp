@@ -17,7 +17,8 @@ namespace granflow::transient_pair {
 // at rest; kinetic theory needs T > 0), run through strain.total (no steady stop), Δγ at most
 // continuum.strain_increment. control.mode drained: from e0, the total normal stress
 // control.normal_stress (default p0) held while the liquid drains over control.drainage_length
-// (the mixed control with the drainage resistance, rev/simple_shear.hpp). With rate_step.strain
+// (the mixed control with the drainage resistance, rev/simple_shear.hpp); damped_height: the same
+// with the constant resistance control.height_resistance. With rate_step.strain
 // the shear rate steps to rate_step.shear_rate there. Throws core::NumericalFailure (step,
 // variable); `result` then holds the series so far.
 void continuum_transient(const core::Case& condition, double phi0, double p0,

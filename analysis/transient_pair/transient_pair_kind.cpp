@@ -286,10 +286,11 @@ void check_transient_pair_case(const core::Case& c) {
            "a kind: dem_prepare run directory (both sides start from its prepared packing)");
   if (const std::string mode = c.string("control.mode"); mode == "constant_pressure")
     c.fail("control.mode", "constant_volume (the undrained test) or drained");
-  if (c.string("control.mode") == "drained" && !c.boolean("force_chains.enabled"))
+  if (const std::string mode = c.string("control.mode");
+      (mode == "drained" || mode == "damped_height") && !c.boolean("force_chains.enabled"))
     c.fail("control.mode",
-           "constant_volume without the force chains (a drained continuum solves σ_yy with its "
-           "skeleton: force_chains.enabled)");
+           "constant_volume without the force chains (a drained or damped continuum solves σ_yy "
+           "with its skeleton: force_chains.enabled)");
   if (!c.boolean("collisional.enabled"))
     c.fail("collisional.enabled", "true (the continuum side carries T and the collisions)");
   const auto names = parameter_names(c);
@@ -464,9 +465,14 @@ int run_transient_pair_case(core::RunContext& ctx) {
     ctx.result.attribute(group, "shear_rate", conditions[g].number("shear_rate"));
     ctx.result.attribute(group, "liquefaction_fraction", limits.liquefaction);
     ctx.result.attribute(group, "dem_result", h5.string());
-    if (conditions[g].string("control.mode") == "drained") {  // the total σ_n and H
-      ctx.result.attribute(group, "drainage_length",
-                           conditions[g].number("control.drainage_length"));
+    if (const std::string mode = conditions[g].string("control.mode");
+        mode == "drained" || mode == "damped_height") {  // the total σ_n, and H or R
+      if (mode == "drained")
+        ctx.result.attribute(group, "drainage_length",
+                             conditions[g].number("control.drainage_length"));
+      else
+        ctx.result.attribute(group, "height_resistance",
+                             conditions[g].number("control.height_resistance"));
       ctx.result.attribute(group, "normal_stress",
                            conditions[g].has("control.normal_stress")
                                ? conditions[g].number("control.normal_stress")

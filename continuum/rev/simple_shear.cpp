@@ -92,6 +92,9 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
   if (drained && !(mixed_control && settings.liquid))
     throw std::invalid_argument(
         "a drained simple shear needs constant pressure, the force chains and the liquid");
+  if (control.height_resistance > 0.0 && !(mixed_control && !drained))
+    throw std::invalid_argument(
+        "a damped height needs constant pressure and the force chains, and no drainage length");
   if (control.rate_step_strain < INFINITY && !(control.rate_step_shear_rate > 0.0))
     throw std::invalid_argument("the rate step's shear rate must be positive");
   double effective_pressure = control.effective_pressure;
@@ -181,7 +184,7 @@ void run_simple_shear(const continuum::MultiRegimePoint& point, const SimpleShea
           drained ? settings.liquid_parameters.viscosity * control.drainage_length *
                         control.drainage_length /
                         model::permeability(settings.liquid_parameters, d, state.solid_fraction)
-                  : 0.0;
+                  : control.height_resistance;
       NormalStressStep mixed = advance_at_normal_stress(
           point, state, gamma_dot, dt, control.normal_stress, vertical_strain_guess,
           control.normal_stress_tolerance, step, 8, resistance);

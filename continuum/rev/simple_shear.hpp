@@ -42,6 +42,10 @@ struct SimpleShearControl {
   // permeability closure at the start of each step; rev/simple_shear_mixed_control.hpp). 0: the
   // grains carry p alone (fully drained, or dry).
   double drainage_length = 0.0;
+  // Damped height (constant pressure with force chains, drainage_length 0): the same law with a
+  // constant r = height_resistance (Pa s), a viscous piston on the point's height (dry or
+  // immersed; the DEM's fix drainage ... resistance R). 0: the grains carry p at every step.
+  double height_resistance = 0.0;
   // A step in the shear rate: γ̇ = shear_rate up to the strain rate_step_strain, then
   // rate_step_shear_rate (the time step ends on the step's strain). Infinity: no step.
   double rate_step_strain = INFINITY;

@@ -52,6 +52,8 @@ std::string driver_parameter_lines(const DriverParameters& p) {
         p.stop_drainage_length, p.stop_normal_stress);
   if (p.drainage_length > 0.0)
     lines += fmt::format("variable gf_drainage_length equal {:.17g}\n", p.drainage_length);
+  if (p.height_resistance > 0.0)
+    lines += fmt::format("variable gf_height_resistance equal {:.17g}\n", p.height_resistance);
   if (p.rate_step_steps > 0)
     lines += fmt::format(
         "variable gf_rate_step_steps equal {}\nvariable gf_rate_step_shear_rate equal {:.17g}\n",
@@ -111,6 +113,8 @@ DriverParameters driver_parameters_from_words(const std::vector<std::string>& wo
       p.stop_normal_stress = value;
     else if (name == "drainage_length")
       p.drainage_length = value;
+    else if (name == "height_resistance")
+      p.height_resistance = value;
     else if (name == "rate_step_steps")
       p.rate_step_steps = integer;
     else if (name == "rate_step_shear_rate")

@@ -70,6 +70,9 @@ struct DriverParameters {
   // σ_yy at gf_normal_stress during the shear while the liquid drains in or out over this length
   // (fixes/fix_drainage.hpp); the box height follows and fix gf_shear is reissued every sample.
   double drainage_length = 0.0;  // m
+  // gf_height_resistance, written only when > 0: the same law with k = 1/R for a dry deck (a
+  // damped height, control.mode damped_height), R in Pa s.
+  double height_resistance = 0.0;
   // gf_rate_step_steps and gf_rate_step_shear_rate, written only when rate_step_steps > 0: after
   // this many shear steps (a multiple of sample_every) the shear rate steps to the second value
   // (the affine profile's change added to every sphere's v_x; driver/shear_schedule.hpp).
@@ -87,8 +90,8 @@ std::string granular_atom_setup();
 // variable without its prefix: shear_rate, total_steps, sample_every, constant_pressure,
 // normal_stress, servo_gain, servo_max_strain, servo_every, servo_move_every, profile_bins,
 // particle_density, target_friction, target_solid_fraction, target_temperature, check_every,
-// stop_steps, stop_drainage_length, stop_normal_stress, drainage_length, rate_step_steps,
-// rate_step_shear_rate, confirm_checks, temperature_scale);
+// stop_steps, stop_drainage_length, stop_normal_stress, drainage_length, height_resistance,
+// rate_step_steps, rate_step_shear_rate, confirm_checks, temperature_scale);
 // servo_every defaults to sample_every. Throws std::invalid_argument naming a word that is not
 // NAME=VALUE with a known NAME and a number.
 DriverParameters driver_parameters_from_words(const std::vector<std::string>& words);

@@ -204,8 +204,8 @@ std::vector<std::pair<std::string, std::string>> check_shear_params(const ShearD
                         "the volume)");
   if (p.drainage_length > 0.0 && !p.wet.enabled)
     issues.emplace_back("control.mode",
-                        "constant_volume or constant_pressure without a liquid (drained needs "
-                        "liquid.enabled: true)");
+                        "constant_volume, constant_pressure or damped_height without a liquid "
+                        "(drained needs liquid.enabled: true)");
   if (p.rate_step_strain > 0.0) {
     if (!(p.rate_step_strain < p.total_strain))
       issues.emplace_back("rate_step.strain", "< strain.total");
@@ -289,9 +289,10 @@ ShearDeck shear_deck_timing(const ShearDeckParams& p) {
     // (fluid_time_step.hpp). The drag time scale shortens with ν; the fix re-checks dt against
     // the current ν at every setup, so take the target φ, or max(φ0, 0.6) when a servo or the
     // drainage sets it.
-    out.fluid_solid_fraction = p.constant_pressure || p.drainage_length > 0.0
-                                   ? std::max(p.solid_fraction, 0.6)
-                                   : p.solid_fraction;
+    out.fluid_solid_fraction =
+        p.constant_pressure || p.drainage_length > 0.0 || p.height_resistance > 0.0
+            ? std::max(p.solid_fraction, 0.6)
+            : p.solid_fraction;
     out.fluid_times = fluid_time_scales(fluid_step_input(p, out));
     const FluidTimeStep step =
         stable_fluid_time_step(out.fluid_times, p.dt_safety, p.wet.viscous_safety);
@@ -451,7 +452,9 @@ ShearDeck make_shear_deck(const ShearDeckParams& p, const std::string& data_file
   driver.stop_drainage_length = p.stop_drainage_length;
   driver.stop_normal_stress = p.stop_normal_stress;
   driver.drainage_length = p.drainage_length;
-  if (driver.drainage_length > 0.0) driver.normal_stress = p.normal_stress;  // total σ_yy held
+  driver.height_resistance = p.height_resistance;
+  if (driver.drainage_length > 0.0 || driver.height_resistance > 0.0)
+    driver.normal_stress = p.normal_stress;  // the total σ_yy held every step
   driver.rate_step_steps = out.rate_step_steps;
   driver.rate_step_shear_rate = p.rate_step_shear_rate;
   // (d γ̇)² as point_analysis.cpp forms it, so the frozen check is the same number

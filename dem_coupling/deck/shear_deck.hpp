@@ -102,6 +102,9 @@ struct ShearDeckParams {
   // Drained shear (control.mode drained, immersed only): the total σ_yy = normal_stress is held
   // during the shear while the liquid drains in or out over this length (fix drainage); 0: not.
   double drainage_length = 0.0;  // m
+  // Damped height (control.mode damped_height, dry or immersed): the same law with k = 1/R,
+  // R = control.height_resistance (Pa s); 0: not.
+  double height_resistance = 0.0;
   // A step in the shear rate once the strain reaches rate_step_strain (0: no step).
   double rate_step_strain = 0.0;
   double rate_step_shear_rate = 0.0;  // 1/s after the step

@@ -299,18 +299,21 @@ int main(int argc, char** argv) {
   const granflow::dem::ShearSchedule schedule{
       shear_rate, std::lround(optional_deck_variable(handle, "gf_rate_step_steps", 0.0)),
       optional_deck_variable(handle, "gf_rate_step_shear_rate", 0.0)};
+  // (or gf_height_resistance R: the same law with k = 1/R, a damped height for dry decks).
   const double shear_drainage_length = optional_deck_variable(handle, "gf_drainage_length", 0.0);
-  const bool drained = shear_drainage_length > 0.0;
+  const double height_resistance = optional_deck_variable(handle, "gf_height_resistance", 0.0);
+  const bool drained = shear_drainage_length > 0.0 || height_resistance > 0.0;
   if (schedule.has_step() && (servo || rule || schedule.step_steps % sample_every ||
                               schedule.step_steps >= total_steps || !(schedule.step_rate > 0.0)))
     usage_error(rank,
                 "deck: gf_rate_step_steps must be a multiple of gf_sample_every below "
                 "gf_total_steps, gf_rate_step_shear_rate > 0, without the servo or "
                 "gf_check_every");
-  if (drained && (servo || rule || !wet))
+  if (drained && (servo || rule || (shear_drainage_length > 0.0 && !wet) ||
+                  (shear_drainage_length > 0.0 && height_resistance > 0.0)))
     usage_error(rank,
-                "deck: gf_drainage_length needs an immersed deck (gf_viscosity), without the "
-                "servo or gf_check_every");
+                "deck: gf_drainage_length (an immersed deck: gf_viscosity) or "
+                "gf_height_resistance, not both, without the servo or gf_check_every");
   if (lmp->force->pair == nullptr) usage_error(rank, "deck defines no pair style");
   if (wet && lmp->modify->find_fix("gf_fluid") < 0)
     usage_error(rank, "deck defines gf_viscosity but no fix gf_fluid (fluid/le)");
@@ -415,13 +418,21 @@ int main(int argc, char** argv) {
   bool height_commanded = false;  // fix gf_shear moves the height (from the last servo update)
   long done = 0;                  // shear steps run
   if (drained) {
-    std::snprintf(command, sizeof command,
-                  "fix gf_drain all drainage %.17g %.17g gf_virial gf_fluid",
-                  deck_variable(handle, "gf_normal_stress", rank), shear_drainage_length);
+    const double sigma_n = deck_variable(handle, "gf_normal_stress", rank);
+    if (shear_drainage_length > 0.0)
+      std::snprintf(command, sizeof command,
+                    "fix gf_drain all drainage %.17g gf_virial darcy %.17g gf_fluid", sigma_n,
+                    shear_drainage_length);
+    else
+      std::snprintf(command, sizeof command,
+                    "fix gf_drain all drainage %.17g gf_virial resistance %.17g", sigma_n,
+                    height_resistance);
     lammps_command(handle, command);
     if (rank == 0)
-      std::printf("granflow-dem: drained shear: total sigma_yy = %.6g Pa, drainage over %.4g m\n",
-                  deck_variable(handle, "gf_normal_stress", rank), shear_drainage_length);
+      std::printf("granflow-dem: sigma_yy = %.6g Pa held every step: %s %.4g %s\n", sigma_n,
+                  shear_drainage_length > 0.0 ? "drained over" : "damped height, resistance",
+                  shear_drainage_length > 0.0 ? shear_drainage_length : height_resistance,
+                  shear_drainage_length > 0.0 ? "m" : "Pa s");
   }
   while (done < total_steps) {
     if (schedule.has_step() && done == schedule.step_steps) {
@@ -526,8 +537,7 @@ int main(int argc, char** argv) {
       lammps_command(handle, const_cast<char*>("unfix gf_drain"));  // the stop holds the volume
     if (drainage_length > 0.0) {
       std::snprintf(command, sizeof command,
-                    "fix gf_drain all drainage %.17g %.17g gf_virial "
-                    "gf_fluid",
+                    "fix gf_drain all drainage %.17g gf_virial darcy %.17g gf_fluid",
                     drained_normal_stress, drainage_length);
       lammps_command(handle, command);
     }

@@ -71,14 +71,14 @@ int index_snapshots(const std::filesystem::path& dir, long shear_start_step, dou
     csv += fmt::format("{},{:.10g},{:.10g},{},{}\n", step, time, shear_rate * time, name, text);
   }
   pvd += "</Collection>\n</VTKFile>\n";
-  for (const auto& [file, text] : {std::pair{dir / "snapshots.pvd", pvd},
-                                   std::pair{dir / "snapshots.csv", csv}}) {
+  for (const auto& [file, text] :
+       {std::pair{dir / "snapshots.pvd", pvd}, std::pair{dir / "snapshots.csv", csv}}) {
     std::ofstream out(file);
     out << text;
     out.close();
     if (!out)
-      throw std::runtime_error(fmt::format("{}: cannot write: {}", file.string(),
-                                           std::strerror(errno)));
+      throw std::runtime_error(
+          fmt::format("{}: cannot write: {}", file.string(), std::strerror(errno)));
   }
   return int(files.size());
 }

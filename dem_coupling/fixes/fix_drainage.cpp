@@ -26,16 +26,21 @@ namespace {
 class FixDrainage : public LAMMPS_NS::Fix {
  public:
   FixDrainage(LAMMPS_NS::LAMMPS* lmp, int narg, char** arg) : Fix(lmp, narg, arg) {
-    if (narg != 7)
+    const std::string law = narg > 5 ? arg[5] : "";
+    if (!((law == "darcy" && narg == 8) || (law == "resistance" && narg == 7)))
       fail(
-          "fix drainage: expected 'fix ID group drainage NORMAL_STRESS LENGTH PRESSURE_ID "
-          "FLUID_ID'");
+          "fix drainage: expected 'fix ID group drainage NORMAL_STRESS PRESSURE_ID darcy LENGTH "
+          "FLUID_ID' or '... NORMAL_STRESS PRESSURE_ID resistance R'");
     normal_stress_ = number(arg[3], "NORMAL_STRESS");
-    length_ = number(arg[4], "LENGTH");
-    if (!(normal_stress_ > 0.0) || !(length_ > 0.0))
-      fail("fix drainage: NORMAL_STRESS and LENGTH must be positive");
-    pressure_id_ = arg[5];
-    fluid_id_ = arg[6];
+    pressure_id_ = arg[4];
+    if (law == "darcy") {
+      length_ = number(arg[6], "LENGTH");
+      fluid_id_ = arg[7];
+    } else {
+      resistance_ = number(arg[6], "R");
+    }
+    if (!(normal_stress_ > 0.0) || !(length_ > 0.0 || resistance_ > 0.0))
+      fail("fix drainage: NORMAL_STRESS and LENGTH (or R) must be positive");
     box_change_size = 1;  // the box height changes every step (neighbour lists, remaps)
     no_change_box = 1;
     time_depend = 1;
@@ -53,6 +58,7 @@ class FixDrainage : public LAMMPS_NS::Fix {
     if (c < 0 || !modify->compute[c]->pressflag)
       fail(fmt::format("fix drainage: {} is not a compute pressure", pressure_id_));
     pressure_ = modify->compute[c];
+    if (resistance_ > 0.0) return;  // a damped height: no liquid, k = 1/R
     const int f = modify->find_fix(fluid_id_.c_str());
     liquid_ = f < 0 ? nullptr : fluid_le_liquid(modify->fix[f]);
     if (liquid_ == nullptr)
@@ -77,9 +83,10 @@ class FixDrainage : public LAMMPS_NS::Fix {
     update_coefficient();
     if (coefficient_ * normal_stress_ * update->dt > 0.01)
       fail(fmt::format(
-          "fix drainage: k σ_n Δt = {:.3g} > 0.01: the drainage length {:g} m drains faster than "
-          "the DEM time step resolves (k = κ/(η0 H²) = {:.3g} 1/(Pa s)); use a longer length",
-          coefficient_ * normal_stress_ * update->dt, length_, coefficient_));
+          "fix drainage: k σ_n Δt = {:.3g} > 0.01: the height moves faster than the DEM time "
+          "step resolves (k = {:.3g} 1/(Pa s)); use a longer drainage length or a larger "
+          "resistance",
+          coefficient_ * normal_stress_ * update->dt, coefficient_));
     pressure_->addstep(update->ntimestep + 1);
   }
 
@@ -119,8 +126,12 @@ class FixDrainage : public LAMMPS_NS::Fix {
   }
 
  private:
-  // k = κ(ν) / (η0 H²) at the box's current solid fraction.
+  // k = κ(ν) / (η0 H²) at the box's current solid fraction, or 1/R.
   void update_coefficient() {
+    if (resistance_ > 0.0) {
+      coefficient_ = 1.0 / resistance_;
+      return;
+    }
     const double nu = solid_volume_ / (domain->xprd * domain->yprd * domain->zprd);
     coefficient_ =
         model::permeability(*liquid_, diameter_, nu) / (liquid_->viscosity * length_ * length_);
@@ -137,7 +148,7 @@ class FixDrainage : public LAMMPS_NS::Fix {
     std::abort();  // error->all does not return
   }
 
-  double normal_stress_ = 0, length_ = 0;
+  double normal_stress_ = 0, length_ = 0, resistance_ = 0;
   std::string pressure_id_, fluid_id_;
   LAMMPS_NS::Compute* pressure_ = nullptr;
   const model::LiquidParameters* liquid_ = nullptr;

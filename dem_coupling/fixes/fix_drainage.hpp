@@ -1,12 +1,15 @@
 // fix drainage: a periodic box under an imposed total normal stress that compacts only as fast
 // as its pore liquid can drain (docs/transient_dem.md, "Drained reconsolidation"):
 //
-//   fix ID group drainage NORMAL_STRESS LENGTH PRESSURE_ID FLUID_ID
+//   fix ID group drainage NORMAL_STRESS PRESSURE_ID darcy LENGTH FLUID_ID
+//   fix ID group drainage NORMAL_STRESS PRESSURE_ID resistance R
 //
 //   NORMAL_STRESS  σ_n, the total normal stress on the box's y faces, Pa
-//   LENGTH         H, the drainage length, m
 //   PRESSURE_ID    a `compute pressure ... virial` of the group (the particles' virial stress)
+//   LENGTH         H, the drainage length, m
 //   FLUID_ID       the run's fix fluid/le: the liquid (η0, permeability closure, sphericity)
+//   R              a dry box's damped height: k = 1/R, Pa s (the same law with a constant k; the
+//                  continuum's mixed control takes the same R, rev/simple_shear.hpp)
 //
 // The box is one material point of a layer drained over H (Terzaghi's consolidation lumped to one
 // point, as the continuum's consolidating element test, docs/model/multi_regime.md): the liquid

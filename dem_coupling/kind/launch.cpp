@@ -56,8 +56,7 @@ int run_in_directory(const std::vector<std::string>& command,
   core::ProcessOptions options;
   options.directory = std::filesystem::absolute(directory);
   options.output = std::filesystem::absolute(output_file);
-  options.environment =
-      driver_environment(inherited, core::launched_by_mpirun(), ::geteuid() == 0);
+  options.environment = driver_environment(inherited, core::launched_by_mpirun(), ::geteuid() == 0);
   options.poll = poll;
   options.poll_seconds = poll_seconds;
   const core::ProcessResult r = core::run_process(command, options);

@@ -26,9 +26,15 @@ namespace {
 // Columns of prepared.tsv reported in summary.json (prepared.KEY, short keys) and /prepared (one
 // row per seed), named as dem_columns::preparation (driver/prepare_stage.cpp writes them).
 constexpr const char* reported[] = {
-    "phi",       "p",         "sigma_yy",   "Z",         "Z_nr",         "nonrattler_fraction",
-    "fabric_xx", "fabric_yy", "fabric_zz",  "fabric_xy", "fabric_xz",    "fabric_yz",
-    "anisotropy", "energy_ratio", "overlap", "lx",       "particles",    "step",
+    "phi",        "p",
+    "sigma_yy",   "Z",
+    "Z_nr",       "nonrattler_fraction",
+    "fabric_xx",  "fabric_yy",
+    "fabric_zz",  "fabric_xy",
+    "fabric_xz",  "fabric_yz",
+    "anisotropy", "energy_ratio",
+    "overlap",    "lx",
+    "particles",  "step",
 };
 
 // The dataset row of a preparation column (dem_columns::preparation); a column of neither keeps

@@ -119,11 +119,12 @@ core::Schema shear_schema() {
       .greater_than(0);
   auto& control = s.section("control", "volume or normal-stress control");
   control
-      .choice("mode", {"constant_volume", "constant_pressure", "drained"},
+      .choice("mode", {"constant_volume", "constant_pressure", "drained", "damped_height"},
               "constant_volume: φ imposed; constant_pressure: σ_yy imposed by a servo on L_y; "
               "drained (immersed): the total σ_yy = control.normal_stress held step by step "
               "while the liquid drains in or out over control.drainage_length, ε̇_yy = "
-              "κ(φ)/(η0 H²) (σ_n − σ_yy) (fix drainage)")
+              "κ(φ)/(η0 H²) (σ_n − σ_yy) (fix drainage); damped_height (dry or immersed): "
+              "the same with ε̇_yy = (σ_n − σ_yy)/R, R = control.height_resistance")
       .required();
   control.number("solid_fraction", "", "φ (constant_volume), initial φ (constant_pressure)")
       .default_value("0.55")
@@ -141,6 +142,12 @@ core::Schema shear_schema() {
       .number("drainage_length", "m",
               "drainage length H of a drained shear (the liquid's path in or out of the sample)")
       .default_value("0.01")
+      .greater_than(0);
+  control
+      .number("height_resistance", "Pa s",
+              "R of control.mode damped_height: the box height moves at ε̇_yy = (σ_n − σ_yy)/R "
+              "(a viscous piston; R/M is its response time, M = dσ_yy/dε_yy of the packing)")
+      .default_value("100")
       .greater_than(0);
   control
       .number(
@@ -161,9 +168,10 @@ core::Schema shear_schema() {
               "contact_law hooke (its small elastic gain needs frequent updates to converge)")
       .greater_than(0);
   s.number("shear_rate", "1/s", "imposed shear rate γ̇").required().greater_than(0).sweepable();
-  auto& rate_step = s.section("rate_step",
-                              "a step in the shear rate during the run (constant_volume or "
-                              "drained): the affine profile's change added to every sphere");
+  auto& rate_step =
+      s.section("rate_step",
+                "a step in the shear rate during the run (constant_volume, drained "
+                "or damped_height): the affine profile's change added to every sphere");
   rate_step.number("strain", "", "shear strain at which the rate steps").greater_than(0);
   rate_step.number("shear_rate", "1/s", "the shear rate after the step").greater_than(0);
   auto& strain = s.section("strain", "shear strain to run and sample");
@@ -326,6 +334,8 @@ ShearDeckParams read_shear_params(const core::Case& c) {
   p.stop_drainage_length = c.number("stop.drainage_length");
   if (c.string("control.mode") == "drained")
     p.drainage_length = c.number("control.drainage_length");
+  if (c.string("control.mode") == "damped_height")
+    p.height_resistance = c.number("control.height_resistance");
   if (c.has("rate_step.strain") || c.has("rate_step.shear_rate")) {
     p.rate_step_strain = c.has("rate_step.strain") ? c.number("rate_step.strain") : 0.0;
     p.rate_step_shear_rate = c.has("rate_step.shear_rate") ? c.number("rate_step.shear_rate") : 0.0;

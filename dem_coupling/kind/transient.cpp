@@ -191,8 +191,8 @@ void TransientShear::apply(const core::Case& c, ShearDeckParams& p) const {
   p.solid_fraction = s.phi;
   if (!c.has("control.initial_temperature")) p.initial_temperature = 0.0;
   if (!c.has("stop.normal_stress")) p.stop_normal_stress = s.p;  // a drained stop's default σ_n
-  if (p.drainage_length > 0.0 && !c.has("control.normal_stress"))
-    p.normal_stress = s.p;  // a drained shear's default σ_n
+  if ((p.drainage_length > 0.0 || p.height_resistance > 0.0) && !c.has("control.normal_stress"))
+    p.normal_stress = s.p;  // a drained or damped shear's default σ_n
 }
 
 void TransientShear::absorb(core::RunContext& ctx, std::size_t n, const std::filesystem::path& dir,

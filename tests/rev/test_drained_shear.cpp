@@ -129,3 +129,36 @@ TEST(DrainedShear, StepUpDilatesAgainstTheSuctionOfTheLiquid) {
     previous_half = half;
   }
 }
+
+// A damped height (height_resistance R, no liquid): the same law with a constant r = R, a
+// viscous piston on a dry point. Every row satisfies σ_yy + R ε̇_yy = p to the mixed control's
+// tolerance (R exact here, unlike the drained r(ν) taken at the step's start), a step up dilates
+// the point (u = R ε̇_yy < 0 while it does), and the run ends on the constant-pressure steady state
+// of the new rate, as the drained one does.
+TEST(DampedHeight, DryPointHoldsItsNormalStressThroughTheStep) {
+  const continuum::MultiRegimePoint point(granflow::testing::dem_sphere_settings());
+  auto control = drained(0.0);
+  control.height_resistance = 100.0;  // Pa s: R/M ~ 1e-3 s against 1/γ̇ >= 0.1 s
+  control.rate_step_shear_rate = kFast;
+  const auto r = rev::run_simple_shear(point, control);
+  const auto& s = r.series;
+  ASSERT_TRUE(r.steady.reached);
+  double most_suction = 0.0;
+  for (std::size_t i = 0; i < s.strain.size(); ++i) {
+    // the solver's tolerance is 1e-12 p; σ_yy and ε̇ are recomputed from the state: 1e-9 p
+    EXPECT_NEAR(s.normal_stress[i] + 100.0 * s.vertical_strain_rate[i], kNormalStress,
+                1e-9 * kNormalStress)
+        << "row " << i;
+    if (s.strain[i] > kStepStrain)
+      most_suction = std::min(most_suction, 100.0 * s.vertical_strain_rate[i]);
+  }
+  EXPECT_LT(most_suction, 0.0);  // the step up dilates the point
+  rev::SimpleShearControl fast = drained(0.0);
+  fast.shear_rate = kFast;
+  fast.rate_step_strain = INFINITY;
+  const auto direct = rev::run_simple_shear(point, fast);
+  ASSERT_TRUE(direct.steady.reached);
+  // as RateStepEndsOnTheSteadyStateOfTheNewRate: 2e-5 on μ, 1e-6 on ν
+  EXPECT_NEAR(r.steady.friction / direct.steady.friction, 1.0, 2e-5);
+  EXPECT_NEAR(r.steady.solid_fraction / direct.steady.solid_fraction, 1.0, 1e-6);
+}
