@@ -19,6 +19,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from plot_axes import label_rate_step_axes  # noqa: E402
 
 
 def groups(run_dir):
@@ -129,13 +130,7 @@ def main(argv):
         axes[3].set_xlabel("time since the shear was stopped (s)")
         axes[3].set_ylabel("sigma_yy / sigma_n (solid)")
         axes[3].grid(alpha=0.3)
-    for ax, label in zip(step_axes, ("mu = tau / sigma_yy (seed means)", "solid fraction phi",
-                                     "T (m^2/s^2)")):
-        ax.set_xlabel("shear strain gamma   (dotted: the step in the shear rate)")
-        ax.set_ylabel(label)
-        ax.grid(alpha=0.3)
-    if stepped:
-        step_axes[2].set_yscale("log")
+    label_rate_step_axes(step_axes, "mu = tau / sigma_yy (seed means)")
     fig.suptitle("shear from rest: seed mean and band (lowest to highest seed)")
     fig.tight_layout()
     target = out or os.path.join(runs[0], "transient.png")

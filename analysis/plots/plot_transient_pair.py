@@ -18,6 +18,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from plot_axes import label_rate_step_axes  # noqa: E402
 
 
 def main(run):
@@ -30,8 +31,8 @@ def main(run):
         damped_shear = any("height_resistance" in f_cont["transient_pair"][n].attrs for n in names)
         panels = 4 if drained else 3 if stopped else 2
         rows = 2 if stepped else 1
-        fig, axes = plt.subplots(rows, max(panels, 3 if stepped else 0),
-                                 figsize=(5.3 * max(panels, 3 if stepped else 0) + 0.4, 4.2 * rows),
+        columns = max(panels, 3 if stepped else 0)
+        fig, axes = plt.subplots(rows, columns, figsize=(5.3 * columns + 0.4, 4.2 * rows),
                                  squeeze=False)
         step_axes = axes[1] if stepped else []
         axes = axes[0]
@@ -87,7 +88,9 @@ def main(run):
                 ax_s.plot(t_dem, np.asarray(dem["stop/granular_temperature_mean"]) / flow,
                           color=color, lw=1.2, label="DEM " + label)
                 for suffix, ls in (("", "--"), ("_cal", ":")):
-                    if "stop/time" + suffix in cont:
+                    # (a stop that stopped on a numerical failure has its rows, no metrics)
+                    if "stop/time" + suffix in cont and \
+                            "cont" + suffix + "_flowing_T" in cont.attrs:
                         ax_s.plot(np.asarray(cont["stop/time" + suffix]),
                                   np.asarray(cont["stop/granular_temperature" + suffix]) /
                                   float(cont.attrs["cont" + suffix + "_flowing_T"]),
@@ -124,15 +127,9 @@ def main(run):
         ax_d.set_xlabel("time since the shear was stopped (s)")
         ax_d.set_ylabel("sigma_yy / sigma_n   (drained: 1 - u / sigma_n)")
         ax_d.grid(alpha=0.3)
-    for ax, label in zip(step_axes, ("mu = tau / sigma_yy", "solid fraction phi",
-                                     "T (m^2/s^2)")):
-        ax.set_xlabel("shear strain gamma   (dotted: the step in the shear rate)")
-        ax.set_ylabel(label)
-        ax.grid(alpha=0.3)
-    if stepped:
-        step_axes[2].set_yscale("log")
-        for ax in axes[panels:]:
-            ax.axis("off")
+    label_rate_step_axes(step_axes)
+    for ax in axes[panels:]:
+        ax.axis("off")
     ax_p.text(0.98, 0.02, "band: lowest to highest DEM seed; dotted: liquefaction threshold",
               transform=ax_p.transAxes, ha="right", va="bottom", fontsize=7)
     fig.suptitle("{} shear from rest: DEM (solid, band), continuum (dashed), calibrated (dotted)"

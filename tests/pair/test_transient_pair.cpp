@@ -9,6 +9,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "analysis/calibration/steady_shear_model.hpp"
 #include "analysis/transient_pair/continuum_transient.hpp"
@@ -84,6 +87,23 @@ stop:
   duration: 0.01
 )",
                      e_gamma, lambda_c, p_ref, prepared.string());
+}
+
+// The Python reader (tests/cli/check_results_reader.py) opens each run of `runs` (directory,
+// kind) and checks that every dataset is listed with its unit in docs/results.md.
+void expect_documented_results(
+    const std::filesystem::path& dir,
+    const std::vector<std::pair<std::filesystem::path, std::string>>& runs) {
+  core::ProcessOptions options;
+  options.output = dir / "reader.log";
+  const std::filesystem::path source = GRANFLOW_SOURCE_DIR;
+  std::vector<std::string> command{"/usr/bin/python3",
+                                   (source / "tests/cli/check_results_reader.py").string()};
+  for (const auto& [run, kind] : runs) command.insert(command.end(), {run.string(), kind});
+  const auto r = core::run_process(command, options);
+  std::ifstream log(dir / "reader.log");
+  const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(r.status, 0) << text;
 }
 
 // The 250-sphere loose packing of `preparation` in DIR (a kind: dem_prepare run).
@@ -179,19 +199,9 @@ TEST(TransientPair, LoosePackingInTheDemAndTheContinuum) {
     EXPECT_EQ(t.get(key), s.get(key)) << key;
   // The Python reader opens the three runs (the preparation, the DEM from it, the pair) and every
   // dataset is listed with its unit in docs/results.md (tests/cli/check_results_reader.py).
-  {
-    core::ProcessOptions options;
-    options.output = dir / "reader.log";
-    const std::filesystem::path source = GRANFLOW_SOURCE_DIR;
-    const auto r = core::run_process(
-        {"/usr/bin/python3", (source / "tests/cli/check_results_reader.py").string(),
-         (dir / "prep").string(), "dem_prepare", (dir / "run" / "dem").string(), "dem",
-         (dir / "run").string(), "transient_pair"},
-        options);
-    std::ifstream log(dir / "reader.log");
-    const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
-    EXPECT_EQ(r.status, 0) << text;
-  }
+  expect_documented_results(dir, {{dir / "prep", "dem_prepare"},
+                                  {dir / "run" / "dem", "dem"},
+                                  {dir / "run", "transient_pair"}});
   // A dem_run that is no DEM run (the preparation) is one case error naming the key.
   const auto wrong = core::Case::parse(pair_case(dir / "prep"), "tiny.yaml",
                                        {"dem_run=" + (dir / "prep").string()}, schema);
@@ -248,16 +258,7 @@ TEST(TransientPair, DrainedStopReconsolidatesBothSides) {
             core::read_dataset(dir / "run" / "dem" / "result.h5",
                                "/transient/group_0/stop/solid_fraction_mean"));
   // every dataset of the drained pair is documented (tests/cli/check_results_reader.py)
-  core::ProcessOptions options;
-  options.output = dir / "reader.log";
-  const std::filesystem::path source = GRANFLOW_SOURCE_DIR;
-  const auto r = core::run_process(
-      {"/usr/bin/python3", (source / "tests/cli/check_results_reader.py").string(),
-       (dir / "run" / "dem").string(), "dem", (dir / "run").string(), "transient_pair"},
-      options);
-  std::ifstream log(dir / "reader.log");
-  const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
-  EXPECT_EQ(r.status, 0) << text;
+  expect_documented_results(dir, {{dir / "run" / "dem", "dem"}, {dir / "run", "transient_pair"}});
 }
 
 // A drained shear in water with a step in the shear rate, both sides: σ_n = p0 held while the
@@ -312,16 +313,7 @@ TEST(TransientPair, DrainedShearWithARateStepOnBothSides) {
   EXPECT_DOUBLE_EQ(m.dilation, s.get("transient.cont.dilation"));
   EXPECT_DOUBLE_EQ(m.mu_after, s.get("transient.cont.mu_after_step"));
   // every dataset of the pair is documented (tests/cli/check_results_reader.py)
-  core::ProcessOptions options;
-  options.output = dir / "reader.log";
-  const std::filesystem::path source = GRANFLOW_SOURCE_DIR;
-  const auto r = core::run_process(
-      {"/usr/bin/python3", (source / "tests/cli/check_results_reader.py").string(),
-       (dir / "run" / "dem").string(), "dem", (dir / "run").string(), "transient_pair"},
-      options);
-  std::ifstream log(dir / "reader.log");
-  const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
-  EXPECT_EQ(r.status, 0) << text;
+  expect_documented_results(dir, {{dir / "run" / "dem", "dem"}, {dir / "run", "transient_pair"}});
 }
 
 // The known continuum result behind the pair: constant-volume simple shear liquefies a loose
