@@ -89,6 +89,20 @@ stop:
                      e_gamma, lambda_c, p_ref, prepared.string());
 }
 
+// Checks and runs the pair case `c` into `run` (exit 0 expected; a failure is a test failure) and
+// returns its summary.
+core::Summary run_pair(const core::Case& c, const std::filesystem::path& run) {
+  check_transient_pair_case(c);
+  int code = -1;
+  {
+    core::RunContext ctx(c, run, true, true);
+    code = run_transient_pair_case(ctx);
+    ctx.finish();
+  }
+  EXPECT_EQ(code, core::exit_ok);
+  return core::Summary::read(run / "summary.json");
+}
+
 // The Python reader (tests/cli/check_results_reader.py) opens each run of `runs` (directory,
 // kind) and checks that every dataset is listed with its unit in docs/results.md.
 void expect_documented_results(
@@ -123,13 +137,7 @@ TEST(TransientPair, LoosePackingInTheDemAndTheContinuum) {
   ASSERT_NO_FATAL_FAILURE(prepare_packing(dir / "prep"));
   const auto schema = transient_pair_schema();
   const auto c = core::Case::parse(pair_case(dir / "prep"), "tiny.yaml", {}, schema);
-  check_transient_pair_case(c);
-  {
-    core::RunContext ctx(c, dir / "run", true, true);
-    ASSERT_EQ(run_transient_pair_case(ctx), core::exit_ok);
-    ctx.finish();
-  }
-  const auto s = core::Summary::read(dir / "run" / "summary.json");
+  const auto s = run_pair(c, dir / "run");
   const auto prep = core::Summary::read(dir / "prep" / "summary.json");
   // Both sides start from the prepared state.
   EXPECT_DOUBLE_EQ(s.get("transient.phi0"), prep.get("prepared.phi"));
@@ -227,13 +235,7 @@ TEST(TransientPair, DrainedStopReconsolidatesBothSides) {
       {"liquid.enabled=true", "liquid.viscosity=1e-3", "liquid.maximum_packing=0.59",
        "stop.duration=0.03", "stop.drainage_length=0.01"},
       schema);
-  check_transient_pair_case(c);
-  {
-    core::RunContext ctx(c, dir / "run", true, true);
-    ASSERT_EQ(run_transient_pair_case(ctx), core::exit_ok);
-    ctx.finish();
-  }
-  const auto s = core::Summary::read(dir / "run" / "summary.json");
+  const auto s = run_pair(c, dir / "run");
   const auto h5 = dir / "run" / "result.h5";
   const double p0 = s.get("transient.p0");
   // Both sides compact (φ up) and carry σ_n = p0 again; the DEM measured at 250 spheres: φ up
@@ -278,13 +280,7 @@ TEST(TransientPair, DrainedShearWithARateStepOnBothSides) {
        "collisional.jamming_fraction=0.62", "control.mode=drained", "control.drainage_length=0.01",
        "rate_step.strain=0.15", "rate_step.shear_rate=20"},
       schema);
-  check_transient_pair_case(c);
-  {
-    core::RunContext ctx(c, dir / "run", true, true);
-    ASSERT_EQ(run_transient_pair_case(ctx), core::exit_ok);
-    ctx.finish();
-  }
-  const auto s = core::Summary::read(dir / "run" / "summary.json");
+  const auto s = run_pair(c, dir / "run");
   // Both sides compact while sheared slowly, and μ and T rise with the rate (the DEM's T 25x; the
   // continuum's kinetic theory alone, without the dense-branch closures, far more from 1e-9).
   for (const char* side : {"dem", "cont"}) {
