@@ -28,6 +28,10 @@
 //    σ_yy over the held part only: in a viscous suspension σ_yy responds at once to the dilation
 //    rate (lubrication and drag resist it), so a stress measured while the box moves is biased
 //    by -η_n ε̇ and the loop locks into a period-2 cycle (docs/dem_fluid.md, servo).
+// 4b. with gf_drainage_length or gf_height_resistance (a drained or damped shear), fix drainage
+//    holds the total σ_yy = gf_normal_stress every step and fix gf_shear is reissued at every
+//    sample (its tilt rate follows the height); with gf_rate_step_steps the shear rate steps to
+//    gf_rate_step_shear_rate there (driver/shear_schedule.hpp: the profile's change added);
 // 5. with gf_check_every in the deck (strain.target_error), every gf_check_every steps rank 0
 //    evaluates the steady window and its errors on the series so far (stopping_rule.hpp, the
 //    kind's own functions), broadcasts the decision, and the shear stops once the targets have
@@ -254,12 +258,9 @@ int main(int argc, char** argv) {
     wet = true;
     std::free(p);
   }
-  long servo_move_every = 0;  // optional: 0 = move over the whole segment
-  if (void* p =
-          lammps_extract_variable(handle, const_cast<char*>("gf_servo_move_every"), nullptr)) {
-    servo_move_every = std::lround(*static_cast<double*>(p));
-    std::free(p);
-  }
+  // optional: 0 = move over the whole segment
+  const long servo_move_every =
+      std::lround(optional_deck_variable(handle, "gf_servo_move_every", 0.0));
   std::optional<granflow::dem::NormalStressServo> servo;
   if (constant_pressure)
     servo.emplace(deck_variable(handle, "gf_normal_stress", rank),
@@ -294,12 +295,12 @@ int main(int argc, char** argv) {
                   "deck: gf_check_every must be a multiple of gf_servo_every (servo) or of "
                   "gf_sample_every");
   }
-  // Optional: a step in the shear rate (driver/shear_schedule.hpp) and a drained shear
-  // (gf_drainage_length: fix drainage holds the total σ_yy = gf_normal_stress every step).
+  // Optional: a step in the shear rate (driver/shear_schedule.hpp), and the total σ_yy =
+  // gf_normal_stress held every step by fix drainage: drained over gf_drainage_length, or a
+  // damped height of resistance gf_height_resistance (k = 1/R; dry decks too).
   const granflow::dem::ShearSchedule schedule{
       shear_rate, std::lround(optional_deck_variable(handle, "gf_rate_step_steps", 0.0)),
       optional_deck_variable(handle, "gf_rate_step_shear_rate", 0.0)};
-  // (or gf_height_resistance R: the same law with k = 1/R, a damped height for dry decks).
   const double shear_drainage_length = optional_deck_variable(handle, "gf_drainage_length", 0.0);
   const double height_resistance = optional_deck_variable(handle, "gf_height_resistance", 0.0);
   const bool drained = shear_drainage_length > 0.0 || height_resistance > 0.0;
@@ -515,20 +516,13 @@ int main(int argc, char** argv) {
   // 6. The stop stage (gf_stop_steps, optional): the shear stopped at constant volume
   // (driver/shear_stop.hpp), sampled every gf_sample_every steps; its rows follow the shear's in
   // the series, at the strain of the stop.
-  long stop_steps = 0, stop_done = 0;
-  if (void* p = lammps_extract_variable(handle, const_cast<char*>("gf_stop_steps"), nullptr)) {
-    stop_steps = std::lround(*static_cast<double*>(p));
-    std::free(p);
-  }
+  const long stop_steps = std::lround(optional_deck_variable(handle, "gf_stop_steps", 0.0));
+  long stop_done = 0;
   // Drained (gf_stop_drainage_length > 0): fix drainage compacts the box under
   // gf_stop_normal_stress as its liquid drains (fixes/fix_drainage.hpp).
-  double drainage_length = 0.0, drained_normal_stress = 0.0;
-  if (void* p =
-          lammps_extract_variable(handle, const_cast<char*>("gf_stop_drainage_length"), nullptr)) {
-    drainage_length = *static_cast<double*>(p);
-    std::free(p);
-    drained_normal_stress = deck_variable(handle, "gf_stop_normal_stress", rank);
-  }
+  const double drainage_length = optional_deck_variable(handle, "gf_stop_drainage_length", 0.0);
+  const double drained_normal_stress =
+      drainage_length > 0.0 ? deck_variable(handle, "gf_stop_normal_stress", rank) : 0.0;
   if (stop_steps > 0) {
     const long stop_begin = shear_begin + done;
     const granflow::dem::StoppedFlow stopped =
