@@ -141,7 +141,7 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
     // compression-positive strain rate of the model: ε̇ = -D (plane strain, D_zz = 0)
     continuum::PlaneStep out;
     try {
-      out = point_.advance_plane(st, {-Dxx, -Dyy, -Dxy}, dt, volume_factor);
+      out = point_.advance_plane(st, -Dxx, -Dyy, -Dxy, dt, volume_factor);
     } catch (const std::exception&) {
       bad = std::max(bad, p);
       continue;

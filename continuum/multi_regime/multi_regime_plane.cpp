@@ -16,10 +16,9 @@
 
 namespace granflow::continuum {
 
-PlaneStep MultiRegimePoint::advance_plane(PointState& state, const PlaneStrainRate& rate, double dt,
-                                          double volume_factor) const {
+PlaneStep MultiRegimePoint::advance_plane(PointState& state, double exx, double eyy, double exy,
+                                          double dt, double volume_factor) const {
   const double T_start = state.granular_temperature;
-  const double exx = rate.xx, eyy = rate.yy, exy = rate.xy;
   // 2. force chains
   if (force_chain_model_) {
     auto& fc = state.force_chains;

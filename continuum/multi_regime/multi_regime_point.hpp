@@ -85,11 +85,6 @@ struct StressParts {
   }
 };
 
-// Compression-positive plane strain rate ε̇ = -D of the MPM (ε̇_zz = 0), 1/s.
-struct PlaneStrainRate {
-  double xx = 0, yy = 0, xy = 0;
-};
-
 // What MultiRegimePoint::advance_plane() returns (compression-positive stresses, Pa).
 struct PlaneStep {
   double xx = 0, yy = 0, zz = 0, xy = 0;        // σ_FC + σ_IC + σ_COL + σ_L, without u_w
@@ -137,7 +132,9 @@ class MultiRegimePoint {
   // differ by round-off). A skeleton without force chains at the start (r_c below the
   // fluidization size, not flagged fluidized: it cannot regrow in this update) takes
   // ForceChainModel::update's own result without the call (multi_regime_plane.cpp).
-  PlaneStep advance_plane(PointState& state, const PlaneStrainRate& rate, double dt,
+  // ε̇_xx, ε̇_yy, ε̇_xy: the compression-positive plane strain rate ε̇ = -D of the MPM, 1/s
+  // (separate arguments: passed in registers).
+  PlaneStep advance_plane(PointState& state, double exx, double eyy, double exy, double dt,
                           double volume_factor) const;
 
   // Isotropic initial state: e, effective pressure p' (σ_FC = p' I), ocr = r_c/(√3 p') >= 1, T.
