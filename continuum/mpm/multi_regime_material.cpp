@@ -167,8 +167,7 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
       v.conductivity[p] = 0.0;
       if (point_.settings().collisional) {
         const auto& cp = point_.settings().collisional_parameters;
-        v.conductivity[p] =
-            cp.particle_density * cp.diameter * out.coefficients.f4 * out.sqrt_temperature;
+        v.conductivity[p] = cp.particle_density * cp.diameter * out.f4 * out.sqrt_temperature;
       }
     }
     // σ' of the solver (tension positive) = -(σ_FC + σ_COL + σ_L) (docs/model/conventions.md)

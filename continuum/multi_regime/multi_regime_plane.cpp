@@ -74,7 +74,7 @@ PlaneStep MultiRegimePoint::advance_plane(PointState& state, double exx, double 
     const double s1 = advance_sqrt_temperature(s0, k, dt);
     const double T = s1 * s1;
     state.granular_temperature = T;
-    out.coefficients = c;
+    out.f4 = c.f4;
     out.sqrt_temperature = s1;
     p_col = model::collisional_pressure(p, c, T);
     eta2_col = 2.0 * (p.particle_density * p.diameter * c.f2 * s1);  // 2 η_COL, η_COL at T^½ = s1
