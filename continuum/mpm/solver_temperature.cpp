@@ -30,10 +30,12 @@ void Solver::conduct_temperature(const G& grid) {
     std::size_t b, e;
     chunk(sp.size(), t, T, b, e);
     Stencil st{};
+    // the nodes the thread's points touch: the same in pieces 1 and 2 (same points, same cached
+    // stencils), so taken once (a min/max over each stencil's nodes per point)
+    NodeSpan span;
     // 1. nodal heat capacity C_a = Σ N_a (3/2) m and C_a T_a = Σ N_a (3/2) m T
     {
       double* acc = scatter_buffer(t, 2);
-      NodeSpan span;
       for (std::size_t p = b; p < e; ++p) {
         if (!locate<G, S>(grid, 0, p, st)) continue;  // caught in the next map
         if (T > 1) span.add<G>(st);
@@ -59,10 +61,8 @@ void Solver::conduct_temperature(const G& grid) {
     // 2. ∇T at the points and the nodal heat flow -Σ ∇N_a · q V, q = κ ∇T
     {
       double* acc = scatter_buffer(t, 1);
-      NodeSpan span;
       for (std::size_t p = b; p < e; ++p) {
         if (!locate<G, S>(grid, 0, p, st)) continue;
-        if (T > 1) span.add<G>(st);
         double gx = 0, gy = 0;
         for (int k = 0; k < st.count; ++k) {
           gx += st.dNdx[k] * nodal_T[st.node[k]];
