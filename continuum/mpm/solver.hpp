@@ -246,7 +246,8 @@ class Solver {
     std::vector<std::uint8_t> mask;  // bit c: component c fixed
     std::vector<std::uint8_t> frame;
     std::vector<double> value0, value1, ramp;
-    std::vector<int> list;  // nodes with a condition
+    std::vector<double> cos, sin;  // cos θ, sin θ of a node with an (r, θ) condition
+    std::vector<int> list;         // nodes with a condition
   } conditions_[2];
 
   struct NodalForce {
