@@ -8,6 +8,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "continuum/model/exp_near_zero.hpp"
 #include "continuum/mpm/material_points.hpp"
 #include "continuum/mpm/solver.hpp"
 
@@ -119,12 +120,12 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
     // The force chains' void-ratio factor exp(-tr ε̇ dt) = ν_start/ν_end is the inverse of ν's
     // (a division for the exp of ForceChainModel::update).
     double nu_start = 1.0 - v.porosity[p];
-    const double growth = std::exp(-(Dxx + Dyy) * dt);
+    const double growth = model::exp_near_zero(-(Dxx + Dyy) * dt);
     const double nu_end = nu_start * growth;
     double volume_factor = 1.0 / growth;
     st.solid_fraction = nu_end;
     if (nu_end > solid_fraction_limit_) {
-      volume_factor = std::exp((Dxx + Dyy) * dt);
+      volume_factor = model::exp_near_zero((Dxx + Dyy) * dt);
       nu_start = solid_fraction_limit_ * volume_factor;
       st.solid_fraction = solid_fraction_limit_;
       ++clamped;
@@ -138,16 +139,13 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
     fc.r_c = r_c_[k];
     fc.void_ratio = 1.0 / nu_start - 1.0;
     // compression-positive strain rate of the model: ε̇ = -D (plane strain, D_zz = 0)
-    Eigen::Matrix3d strain_rate;
-    strain_rate << -Dxx, -Dxy, 0, -Dxy, -Dyy, 0, 0, 0, 0;
-    std::optional<continuum::StressParts> result;  // (no copy of the parts)
+    continuum::PlaneStep out;
     try {
-      result.emplace(point_.advance_mass_balanced(st, strain_rate, dt, volume_factor));
+      out = point_.advance_plane(st, -Dxx, -Dyy, -Dxy, dt, volume_factor);
     } catch (const std::exception&) {
       bad = std::max(bad, p);
       continue;
     }
-    const continuum::StressParts& parts = *result;
     const Eigen::Matrix3d& s_fc = st.force_chains.stress;
     fc_xx_[k] = s_fc(0, 0);
     fc_yy_[k] = s_fc(1, 1);
@@ -159,32 +157,28 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
     chi_xy_[k] = 0.5 * (st.force_chains.chi(0, 1) + st.force_chains.chi(1, 0));
     r_c_[k] = st.force_chains.r_c;
     void_ratio_[k] = st.force_chains.void_ratio;
-    collisional_pressure_[k] = parts.collisional_pressure;
-    // γ̇ = sqrt(2 ε̇':ε̇') (MultiRegimePoint::shear_rate) of the plane strain rate ε̇ = -D:
-    // ε̇':ε̇' = (D_xx - m)² + (D_yy - m)² + m² + 2 D_xy², m = (D_xx + D_yy)/3
-    const double m = (Dxx + Dyy) / 3.0, ax = Dxx - m, ay = Dyy - m;
-    shear_rate_[k] = std::sqrt(2.0 * (ax * ax + ay * ay + m * m + 2.0 * Dxy * Dxy));
+    collisional_pressure_[k] = out.collisional_pressure;
+    // γ̇ = sqrt(2 ε̇':ε̇') (MultiRegimePoint::shear_rate) of the plane strain rate ε̇ = -D
+    shear_rate_[k] = out.shear_rate;
     v.temperature[p] = st.granular_temperature;
     if (v.conductivity) {
-      // κ_T = ρ_p d f4(ν) T^½ (model::collisional_conductivity; docs/model/closures.md)
+      // κ_T = ρ_p d f4(ν) T^½ (model::collisional_conductivity; docs/model/closures.md), with
+      // the coefficients and T^½ of this step's update
       v.conductivity[p] = 0.0;
       if (point_.settings().collisional) {
         const auto& cp = point_.settings().collisional_parameters;
-        // (the coefficients of this step's update, at the same ν)
-        v.conductivity[p] =
-            model::collisional_conductivity(cp, parts.coefficients, st.granular_temperature);
+        v.conductivity[p] = cp.particle_density * cp.diameter * out.f4 * out.sqrt_temperature;
       }
     }
     // σ' of the solver (tension positive) = -(σ_FC + σ_COL + σ_L) (docs/model/conventions.md)
-    const Eigen::Matrix3d total = parts.total_without_pore_pressure();
-    v.sxx[p] = -total(0, 0);
-    v.syy[p] = -total(1, 1);
-    v.szz[p] = -total(2, 2);
-    v.sxy[p] = -0.5 * (total(0, 1) + total(1, 0));
+    v.sxx[p] = -out.xx;
+    v.syy[p] = -out.yy;
+    v.szz[p] = -out.zz;
+    v.sxy[p] = -out.xy;
     const double p_fc = s_fc.trace() / 3.0;
     max_p = std::max(max_p, p_fc);
-    if (!std::isfinite(total.sum()) || !std::isfinite(st.granular_temperature) ||
-        st.granular_temperature < 0.0)
+    if (!std::isfinite(out.xx + out.yy + out.zz + out.xy) ||
+        !std::isfinite(st.granular_temperature) || st.granular_temperature < 0.0)
       bad = std::max(bad, p);
   }
   max_effective_pressure_ = max_p;

@@ -153,7 +153,9 @@ class PolarGrid {
     const double xp = bc * x + bs * y, yp = -bs * x + bc * y;  // cell frame
     if (!(xp > 0.0)) return false;
     const double u = (xp * inv_half_cos_ - r0_) * inv_dr_;
-    const int i = std::clamp(static_cast<int>(std::floor(u)), 0, nr_ - 1);
+    // the truncation toward zero equals floor(u) for u >= 0, and for u < 0 both clamp to 0
+    // (no floor: without SSE4.1 it is a sequence of bit operations on the critical path)
+    const int i = std::clamp(static_cast<int>(u), 0, nr_ - 1);
     double xi = u - i;
     constexpr double slack = 1e-9;  // round-off on a cell edge
     if (xi < -slack || xi > 1.0 + slack) return false;
@@ -163,22 +165,34 @@ class PolarGrid {
     const double eta = std::clamp(yp * inv_xp * half_cot_ + 0.5, 0.0, 1.0);
     const double inv_a = inv_dr_ * inv_half_cos_, inv_d = inv_xp * half_cot_;
     const double b_inv_ad = dr_ * half_sin_ * (2.0 * eta - 1.0) * inv_a * inv_d;  // b/(a d)
-    const double N[4] = {(1 - xi) * (1 - eta), xi * (1 - eta), (1 - xi) * eta, xi * eta};
-    const double dxi[4] = {-(1 - eta), (1 - eta), -eta, eta};
-    const double deta[4] = {-(1 - xi), -xi, (1 - xi), xi};
     const int row = nr_ + 1;
     q.node[0] = i + row * j;
     q.node[1] = i + row * (j + 1 < nt_ ? j + 1 : 0);
-    for (int a = 0; a < 4; ++a) {
-      const double gx = inv_a * dxi[a] - b_inv_ad * deta[a], gy = inv_d * deta[a];  // ∇'N
-      q.N[a] = N[a];
-      q.dNdx[a] = bc * gx - bs * gy;
-      q.dNdy[a] = bs * gx + bc * gy;
-    }
+    // N_a and ∂N_a/∂ξ, ∂N_a/∂η of the nodes (i, j), (i+1, j), (i, j+1), (i+1, j+1), written out
+    // as scalars (arrays of them were packed into vectors through the stack by GCC 12, a
+    // store-forwarding stall per point)
+    const double mxi = 1 - xi, meta = 1 - eta;
+    q.N[0] = mxi * meta;
+    q.N[1] = xi * meta;
+    q.N[2] = mxi * eta;
+    q.N[3] = xi * eta;
+    gradient(q, 0, -meta, -mxi, inv_a, inv_d, b_inv_ad, bc, bs);
+    gradient(q, 1, meta, -xi, inv_a, inv_d, b_inv_ad, bc, bs);
+    gradient(q, 2, -eta, mxi, inv_a, inv_d, b_inv_ad, bc, bs);
+    gradient(q, 3, eta, xi, inv_a, inv_d, b_inv_ad, bc, bs);
     return true;
   }
 
  private:
+  // ∇N_a = R(φ_j) ∇'N_a, ∇'N_a = (dξ/a − b/(a d) dη, dη/d) of quad() from dξ = ∂N_a/∂ξ, dη =
+  // ∂N_a/∂η
+  static void gradient(QuadStencil& q, int a, double dxi, double deta, double inv_a, double inv_d,
+                       double b_inv_ad, double bc, double bs) {
+    const double gx = inv_a * dxi - b_inv_ad * deta, gy = inv_d * deta;
+    q.dNdx[a] = bc * gx - bs * gy;
+    q.dNdy[a] = bs * gx + bc * gy;
+  }
+
   // The canonical sector of (x, y) from a guess j: e_j × x >= 0 and e_j+1 × x < 0 (unique: the
   // test of ray j+1 is the same expression for sectors j and j+1).
   int canonical_sector(double x, double y, int j) const {

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "continuum/model/exp_near_zero.hpp"
+
 namespace granflow::mpm {
 
 namespace {
@@ -45,7 +47,7 @@ std::size_t add_liquid_rectangle(Solver& solver, const Rectangle& r, double poro
   const std::size_t first = grow(l, static_cast<std::size_t>(r.nx) * r.ny);
   const double dx = (r.x1 - r.x0) / r.nx, dy = (r.y1 - r.y0) / r.ny, V = dx * dy;
   const auto& o = solver.liquid_options();
-  const double rho = o.density * std::exp(pressure / o.bulk_modulus);
+  const double rho = o.density * model::exp_near_zero(pressure / o.bulk_modulus);  // as the steps
   std::size_t p = first;
   for (int j = 0; j < r.ny; ++j) {
     for (int i = 0; i < r.nx; ++i, ++p) {
@@ -89,7 +91,7 @@ std::size_t add_liquid_annulus(Solver& solver, const PolarGrid& grid, int i0, in
                                int nt, double porosity, double pressure) {
   LiquidPoints& l = solver.liquid();
   const auto& o = solver.liquid_options();
-  const double rho = o.density * std::exp(pressure / o.bulk_modulus);
+  const double rho = o.density * model::exp_near_zero(pressure / o.bulk_modulus);  // as the steps
   return fill_annulus(l, grid, i0, i1, nr, nt, [&](std::size_t p, double V) {
     l.volume[p] = V;
     l.porosity[p] = porosity;

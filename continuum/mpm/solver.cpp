@@ -57,6 +57,8 @@ Solver::Solver(Grid grid, SolverOptions options, LiquidOptions liquid)
     c.value0.assign(nn_, 0.0);
     c.value1.assign(nn_, 0.0);
     c.ramp.assign(nn_, 0.0);
+    c.cos.assign(nn_, 1.0);
+    c.sin.assign(nn_, 0.0);
   }
 }
 

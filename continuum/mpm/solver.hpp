@@ -190,7 +190,9 @@ class Solver {
   // Thread t's node accumulator for `fields` fields, all zero: acc_ itself on one thread, else
   // its buffer in scratch_ (only the span it dirtied last time is cleared).
   double* scatter_buffer(int t, int fields);
-  void mark_dirty(int t, int fields, int begin, int end);
+  // [begin, end) and [0, wrap_end) of thread t's buffer hold its scatter (the second: the polar
+  // grid's first rays, reached across the θ = 0 seam; 0 = none)
+  void mark_dirty(int t, int fields, int begin, int end, int wrap_end = 0);
   // acc_ on thread t's share of the nodes = the per-thread buffers summed in thread order.
   void reduce_part(int fields, int t);
   // The stencil of point p of a phase (0 solid, 1 liquid) at the start of the step; on the polar
@@ -244,7 +246,8 @@ class Solver {
     std::vector<std::uint8_t> mask;  // bit c: component c fixed
     std::vector<std::uint8_t> frame;
     std::vector<double> value0, value1, ramp;
-    std::vector<int> list;  // nodes with a condition
+    std::vector<double> cos, sin;  // cos θ, sin θ of a node with an (r, θ) condition
+    std::vector<int> list;         // nodes with a condition
   } conditions_[2];
 
   struct NodalForce {
@@ -278,7 +281,8 @@ class Solver {
   std::vector<double> scratch_;  // per-thread accumulators (threads > 1)
   // Per-thread bookkeeping of the parallel step, one cache line each (no false sharing).
   struct alignas(64) ThreadSlot {
-    int dirty_fields = 0, dirty_begin = 0, dirty_end = 0;  // non-zero part of its buffer
+    // non-zero part of its buffer: [dirty_begin, dirty_end) and [0, dirty_wrap_end) (disjoint)
+    int dirty_fields = 0, dirty_begin = 0, dirty_end = 0, dirty_wrap_end = 0;
     long lost[2] = {-1, -1};  // first point of its chunk, per phase, found outside the grid
     double sum[2] = {0, 0};   // partial sums of a reduction over its chunk
   };

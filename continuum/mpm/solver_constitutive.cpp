@@ -12,6 +12,7 @@
 #include <variant>
 
 #include "continuum/model/closures.hpp"
+#include "continuum/model/exp_near_zero.hpp"
 #include "continuum/mpm/solver_internal.hpp"
 
 namespace granflow::mpm {
@@ -45,7 +46,8 @@ void Solver::refresh_liquid_state() {
   const double K = liquid_options_.bulk_modulus, rho0 = liquid_options_.density;
   for (std::size_t p = 0; p < liquid_.size(); ++p) {
     const double n = liquid_.porosity[p];
-    liquid_.volume[p] = liquid_.mass[p] / (n * rho0 * std::exp(liquid_.pressure[p] / K));
+    liquid_.volume[p] =
+        liquid_.mass[p] / (n * rho0 * model::exp_near_zero(liquid_.pressure[p] / K));
     liquid_.drag[p] = drag_at(n, static_cast<long>(p));
   }
 }
@@ -178,7 +180,8 @@ void Solver::constitutive_update(bool move) {
     //   dp = -(K_w / n) [ n tr(D_L) + (1 - n) tr(D_S) ] dt
     liquid_.pressure[p] -= dt * (K / n) * rate[p];
     // Mixture volume the point stands for: V = m / (n ρ_w), ρ_w = ρ_w0 exp(p / K_w).
-    liquid_.volume[p] = liquid_.mass[p] / (n * rho0 * std::exp(liquid_.pressure[p] / K));
+    liquid_.volume[p] =
+        liquid_.mass[p] / (n * rho0 * model::exp_near_zero(liquid_.pressure[p] / K));
     if (viscous) {
       const double eta = viscosity_at(1.0 - n);
       const double third = tr_l / 3.0;
@@ -310,8 +313,8 @@ void Solver::cell_constant_pressure() {
   for (long p = 0; p < nl; ++p) {
     liquid_.pressure[p] = acc_[liquid_cell_[p]] / acc_[nn + liquid_cell_[p]];
     // V = m / (n ρ_w), ρ_w = ρ_w0 exp(p / K_w), with the cell's pressure.
-    liquid_.volume[p] =
-        liquid_.mass[p] / (liquid_.porosity[p] * rho0 * std::exp(liquid_.pressure[p] / K));
+    liquid_.volume[p] = liquid_.mass[p] / (liquid_.porosity[p] * rho0 *
+                                           model::exp_near_zero(liquid_.pressure[p] / K));
   }
 }
 

@@ -46,6 +46,18 @@ inline constexpr bool fixed_quad = S == ShapeKind::linear;
 // The span [begin, end) of nodes a thread's scatter touched.
 struct NodeSpan {
   int begin = std::numeric_limits<int>::max(), end = 0;
+  int wrap_end = 0;  // [0, wrap_end): the polar grid's first rays, reached across θ = 0
+  // The rows (n0, n0 + 1) and (n1, n1 + 1) of a polar quad stencil (rays j and j + 1); n1 < n0
+  // when ray j + 1 is ray 0 (the seam).
+  void add_rows(int n0, int n1) {
+    begin = std::min(begin, n0);
+    if (n1 > n0) {
+      end = std::max(end, n1 + 2);
+    } else {
+      end = std::max(end, n0 + 2);
+      wrap_end = std::max(wrap_end, n1 + 2);
+    }
+  }
   template <class G>
   void add(const Stencil& st) {
     if constexpr (std::is_same_v<G, CartesianGrid>) {

@@ -34,6 +34,11 @@ void Solver::fix_velocity(Phase phase, int node, Frame frame, int component, dou
   c.frame[node] = static_cast<std::uint8_t>(frame);
   (component == 0 ? c.value0 : c.value1)[node] = value;
   c.ramp[node] = ramp_time;
+  if (frame == Frame::polar) {  // the node's angle is fixed: its cos and sin once, not per step
+    const double th = node_angle(node);
+    c.cos[node] = std::cos(th);
+    c.sin[node] = std::sin(th);
+  }
 }
 
 void Solver::add_nodal_force(Phase phase, int node, double fx, double fy) {
@@ -175,7 +180,7 @@ void Solver::apply_conditions(Phase phase, double* vx, double* vy, int begin, in
       if (c.mask[a] & 1u) vx[a] = f * c.value0[a];
       if (c.mask[a] & 2u) vy[a] = f * c.value1[a];
     } else {
-      const double th = node_angle(a), cs = std::cos(th), sn = std::sin(th);
+      const double cs = c.cos[a], sn = c.sin[a];
       double vr = vx[a] * cs + vy[a] * sn, vt = -vx[a] * sn + vy[a] * cs;
       if (c.mask[a] & 1u) vr = f * c.value0[a];
       if (c.mask[a] & 2u) vt = f * c.value1[a];

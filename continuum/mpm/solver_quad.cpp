@@ -117,10 +117,7 @@ inline void point_gradient(const QuadRows& q, const double* vx, const double* vy
 }
 
 // (On the polar grid the second row precedes the first in the last sector, where θ wraps.)
-inline void add_span(NodeSpan& span, const QuadRows& q) {
-  span.begin = std::min({span.begin, q.node[0], q.node[1]});
-  span.end = std::max({span.end, q.node[0] + 2, q.node[1] + 2});
-}
+inline void add_span(NodeSpan& span, const QuadRows& q) { span.add_rows(q.node[0], q.node[1]); }
 
 }  // namespace
 
@@ -226,7 +223,7 @@ void Solver::map_first_quad(const G& grid, int t) {
       }
     }
   }
-  mark_dirty(t, fields, span.begin, span.end);
+  mark_dirty(t, fields, span.begin, span.end, span.wrap_end);
 }
 
 // G2P with the FLIP/PIC blend (and the USL velocity gradient); with `remap` (MUSL) the updated
@@ -294,7 +291,7 @@ void Solver::update_points_quad(const G& grid, int t, bool remap) {
         true, remap ? acc + R_ML * nn : none, remap ? acc + R_PXL * nn : none,
         remap ? acc + R_PYL * nn : none);
   }
-  if (remap) mark_dirty(t, fields, span.begin, span.end);
+  if (remap) mark_dirty(t, fields, span.begin, span.end, span.wrap_end);
 }
 
 // L = Σ_a v_a ⊗ ∇N_a at the points (and, for the liquid, tr(D_S), n and |u_L - u_S| there), as

@@ -20,22 +20,33 @@ double* Solver::scatter_buffer(int t, int fields) {
   for (int f = 0; f < slot.dirty_fields; ++f) {
     double* field = mine + static_cast<std::size_t>(f) * nn_;
     std::fill(field + slot.dirty_begin, field + slot.dirty_end, 0.0);
+    std::fill(field, field + slot.dirty_wrap_end, 0.0);
   }
-  slot.dirty_fields = slot.dirty_begin = slot.dirty_end = 0;
+  slot.dirty_fields = slot.dirty_begin = slot.dirty_end = slot.dirty_wrap_end = 0;
   return mine;
 }
 
-void Solver::mark_dirty(int t, int fields, int begin, int end) {
+void Solver::mark_dirty(int t, int fields, int begin, int end, int wrap_end) {
   if (threads_ == 1) return;
   ThreadSlot& slot = slots_[t];
-  slot.dirty_fields = begin < end ? fields : 0;
-  slot.dirty_begin = begin < end ? begin : 0;
-  slot.dirty_end = begin < end ? end : 0;
+  if (!(begin < end)) begin = end = 0;
+  if (wrap_end >= begin) {  // the two parts meet: one interval [0, end)
+    end = std::max(end, wrap_end);
+    begin = 0;
+    wrap_end = 0;
+  }
+  slot.dirty_fields = end > begin || wrap_end > 0 ? fields : 0;
+  slot.dirty_begin = begin;
+  slot.dirty_end = end;
+  slot.dirty_wrap_end = wrap_end;
 }
 
 // Sum in thread order starting from 0.0, as a serial loop over the threads would: a given thread
 // count reproduces itself bit for bit. A buffer is zero outside the span its thread dirtied, so
-// only that span is read (a thread's chunk of points touches a band of the grid, not all of it).
+// only that span is read (a thread's chunk of points touches a band of the grid, not all of it;
+// on the polar grid the band of the last θ-chunk continues across the seam θ = 0 into the first
+// rays, a second interval, so that the span is not the whole grid: 0 + x = x, skipping the zeros
+// changes no sum).
 void Solver::reduce_part(int fields, int t) {
   if (threads_ == 1) return;
   int b, e;
@@ -50,6 +61,9 @@ void Solver::reduce_part(int fields, int t) {
       const double* in = scratch_.data() + stride * u + static_cast<std::size_t>(f) * nn_;
       const int lo = std::max(b, slot.dirty_begin), hi = std::min(e, slot.dirty_end);
       for (int a = lo; a < hi; ++a) out[a] += in[a];
+      // the part across the polar seam (disjoint from the first: each node once per thread)
+      const int wrap_hi = std::min(e, slot.dirty_wrap_end);
+      for (int a = b; a < wrap_hi; ++a) out[a] += in[a];
     }
   }
 }

@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <type_traits>
 #include <vector>
 
 #include "continuum/mpm/solver_internal.hpp"
@@ -30,20 +31,27 @@ void Solver::conduct_temperature(const G& grid) {
     std::size_t b, e;
     chunk(sp.size(), t, T, b, e);
     Stencil st{};
+    // the nodes the thread's points touch: the same in pieces 1 and 2 (same points, same cached
+    // stencils), so taken once (a min/max over each stencil's nodes per point)
+    NodeSpan span;
     // 1. nodal heat capacity C_a = Σ N_a (3/2) m and C_a T_a = Σ N_a (3/2) m T
     {
       double* acc = scatter_buffer(t, 2);
-      NodeSpan span;
       for (std::size_t p = b; p < e; ++p) {
         if (!locate<G, S>(grid, 0, p, st)) continue;  // caught in the next map
-        if (T > 1) span.add<G>(st);
+        if (T > 1) {
+          if constexpr (std::is_same_v<G, PolarGrid>)  // the cached stencil's two rows
+            span.add_rows(cache_[0].quad[p].node[0], cache_[0].quad[p].node[1]);
+          else
+            span.add<G>(st);
+        }
         const double c = 1.5 * sp.mass[p], cT = c * sp.temperature[p];
         for (int k = 0; k < st.count; ++k) {
           acc[st.node[k]] += st.N[k] * c;
           acc[nn + st.node[k]] += st.N[k] * cT;
         }
       }
-      mark_dirty(t, 2, span.begin, span.end);
+      mark_dirty(t, 2, span.begin, span.end, span.wrap_end);
     }
     if (T > 1) {
 #pragma omp barrier
@@ -59,10 +67,8 @@ void Solver::conduct_temperature(const G& grid) {
     // 2. ∇T at the points and the nodal heat flow -Σ ∇N_a · q V, q = κ ∇T
     {
       double* acc = scatter_buffer(t, 1);
-      NodeSpan span;
       for (std::size_t p = b; p < e; ++p) {
         if (!locate<G, S>(grid, 0, p, st)) continue;
-        if (T > 1) span.add<G>(st);
         double gx = 0, gy = 0;
         for (int k = 0; k < st.count; ++k) {
           gx += st.dNdx[k] * nodal_T[st.node[k]];
@@ -75,7 +81,7 @@ void Solver::conduct_temperature(const G& grid) {
         const double qy = kappa_p * gy * sp.volume[p];
         for (int k = 0; k < st.count; ++k) acc[st.node[k]] -= st.dNdx[k] * qx + st.dNdy[k] * qy;
       }
-      mark_dirty(t, 1, span.begin, span.end);
+      mark_dirty(t, 1, span.begin, span.end, span.wrap_end);
     }
     if (T > 1) {
 #pragma omp barrier

@@ -64,7 +64,9 @@ inline double advance_sqrt_temperature(double s0, const RiccatiCoefficients& k, 
       s_plus = w / (2 * k.b);
       s_minus = -2 * k.a / w;
     }
-    const double rate = k.b * (s_plus - s_minus);  // = disc
+    // the decay rate b (s+ - s-) = disc (sqrt(c² + 4ab)) itself: exp(-rate dt) does not wait
+    // for the divisions of s±
+    const double rate = disc;
     if (rate <= 0) {
       // double root s+ = s- = 0 (a = 0, c = 0): ds/dt = -b s²
       return s0 / (1 + k.b * s0 * dt);

@@ -85,6 +85,15 @@ struct StressParts {
   }
 };
 
+// What MultiRegimePoint::advance_plane() returns (compression-positive stresses, Pa).
+struct PlaneStep {
+  double xx = 0, yy = 0, zz = 0, xy = 0;  // σ_FC + σ_IC + σ_COL + σ_L, without u_w
+  double collisional_pressure = 0;        // p_COL
+  double shear_rate = 0;                  // γ̇ = sqrt(2 ε̇':ε̇')
+  double sqrt_temperature = 0;            // T^½ at the end of the step (0 without the term)
+  double f4 = 0;  // f4(ν) of the conductivity (kinetic_theory_coefficients.hpp), collisional only
+};
+
 class MultiRegimePoint {
  public:
   explicit MultiRegimePoint(MultiRegimeSettings settings);
@@ -114,6 +123,18 @@ class MultiRegimePoint {
   // volume_factor: exp(-tr ε̇ dt) if the caller has it (> 0), else computed (force-chain update).
   StressParts advance_mass_balanced(PointState& state, const Eigen::Matrix3d& strain_rate,
                                     double dt, double volume_factor = 0.0) const;
+
+  // advance_mass_balanced() for plane strain (ε̇_zz = ε̇_xz = ε̇_yz = 0), returning only what an
+  // MPM point needs (PlaneStep): the total stress without u_w, p_COL, γ̇, f4 and T^½. The same
+  // closures and the same order of the steps; it leaves out the diagnostics of StressParts (Γ, L
+  // and the Riccati coefficients at the new T, the collisional power, the 3 × 3 parts) and takes
+  // η_COL = ρ_p d f2 T^½ from the T^½ of the Riccati update (the two differ by round-off). A
+  // skeleton without force chains at the start (r_c below the fluidization size, not flagged
+  // fluidized: it cannot regrow in this update) takes ForceChainModel::update's own result without
+  // the call (multi_regime_plane.cpp). ε̇_xx, ε̇_yy, ε̇_xy: the compression-positive plane strain rate
+  // ε̇ = -D of the MPM, 1/s (separate arguments: passed in registers).
+  PlaneStep advance_plane(PointState& state, double exx, double eyy, double exy, double dt,
+                          double volume_factor) const;
 
   // Isotropic initial state: e, effective pressure p' (σ_FC = p' I), ocr = r_c/(√3 p') >= 1, T.
   PointState initial_state(double void_ratio, double effective_pressure, double ocr,
