@@ -128,3 +128,59 @@ TEST(MpmRheometerMaterial, RestartReproducesTheUninterruptedRunBitForBit) {
     EXPECT_EQ(a.solver->liquid().pressure[p], b.solver->liquid().pressure[p]) << p;
   EXPECT_GT(max_sxy, 1e3);  // the skeleton was sheared (not a trivial state)
 }
+
+// The MPM's plane-strain point update (MultiRegimePoint::advance_plane) against the 3 × 3 one it
+// stands for (advance_mass_balanced), two paths through the same closures: a skeleton with force
+// chains, one below the fluidization size (advance_plane's own branch for a skeleton that
+// fluidizes in this update), and one already fluidized, in the seed's section-4 material (liquid
+// on) with the contacts' dense-flow stress switched on too, under compaction plus shear.
+// Agreement to round-off: 1e-10 relative (η_COL is taken at the Riccati T^½, the 3 × 3 path at
+// sqrt(T); they differ in the last bits).
+TEST(MpmRheometerMaterial, PlaneUpdateEqualsTheThreeByThreeUpdate) {
+  auto settings = section4_settings();
+  settings.inertial_contact = 0.08;
+  settings.viscous_contact = 0.4;
+  const continuum::MultiRegimePoint point(settings);
+  const double fluidization = settings.force_chain_parameters.fluidization_size;
+  struct Start {
+    double effective_pressure;
+    bool fluidized;
+  };
+  for (const Start start :
+       {Start{50e3, false}, Start{0.1 * fluidization, false}, Start{0.1 * fluidization, true}}) {
+    continuum::PointState plane = point.initial_state(0.818, start.effective_pressure, 1.0, 1e-4);
+    plane.force_chains.fluidized = start.fluidized;
+    continuum::PointState full = plane;
+    const double exx = 0.3, eyy = 1.2, exy = -4.0, dt = 1e-4;  // compression positive, 1/s
+    bool crossed = false;  // the skeleton fluidized or regrew during the run
+    Eigen::Matrix3d rate = Eigen::Matrix3d::Zero();
+    rate(0, 0) = exx, rate(1, 1) = eyy, rate(0, 1) = rate(1, 0) = exy;
+    for (int step = 0; step < 50; ++step) {
+      const double volume_factor = std::exp(-(exx + eyy) * dt);
+      const bool was_fluid = full.force_chains.fluidized;
+      const continuum::PlaneStep a = point.advance_plane(plane, exx, eyy, exy, dt, volume_factor);
+      const Eigen::Matrix3d b =
+          point.advance_mass_balanced(full, rate, dt, volume_factor).total_without_pore_pressure();
+      const double scale = std::max(1.0, b.norm());
+      EXPECT_NEAR(a.xx, b(0, 0), 1e-10 * scale) << step;
+      EXPECT_NEAR(a.yy, b(1, 1), 1e-10 * scale) << step;
+      EXPECT_NEAR(a.zz, b(2, 2), 1e-10 * scale) << step;
+      EXPECT_NEAR(a.xy, b(0, 1), 1e-10 * scale) << step;
+      EXPECT_NEAR(plane.granular_temperature, full.granular_temperature,
+                  1e-10 * full.granular_temperature)
+          << step;
+      EXPECT_NEAR(plane.force_chains.void_ratio, full.force_chains.void_ratio, 1e-12) << step;
+      EXPECT_EQ(plane.force_chains.fluidized, full.force_chains.fluidized) << step;
+      EXPECT_NEAR(plane.force_chains.r_c, full.force_chains.r_c, 1e-10 * start.effective_pressure)
+          << step;
+      EXPECT_NEAR((plane.force_chains.plastic_strain - full.force_chains.plastic_strain).norm(),
+                  0.0, 1e-14)
+          << step;
+      crossed = crossed || full.force_chains.fluidized != was_fluid;
+    }
+    // each start crosses the transition (measured: the loose skeleton at 50 kPa fluidizes under
+    // this shear, the two without a skeleton regrow under the compaction), so both branches of
+    // the plane update meet the 3 × 3 one
+    EXPECT_TRUE(crossed) << start.effective_pressure << (start.fluidized ? " fluidized" : "");
+  }
+}
