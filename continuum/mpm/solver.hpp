@@ -188,12 +188,15 @@ class Solver {
   template <class Body>
   void scatter(int fields, Body&& body);
   // Thread t's node accumulator for `fields` fields, all zero: acc_ itself on one thread, else
-  // its buffer in scratch_ (only the span it dirtied last time is cleared).
+  // its buffer in scratch_ (only the span it dirtied last time is cleared). With more than one
+  // thread, acc_ is also zeroed on the thread's share of the nodes (node_share): a thread may add
+  // a point whose whole stencil lies in its own share straight into acc_ (owner_writes), since
+  // no other thread writes there before the reduction.
   double* scatter_buffer(int t, int fields);
   // [begin, end) and [0, wrap_end) of thread t's buffer hold its scatter (the second: the polar
   // grid's first rays, reached across the θ = 0 seam; 0 = none)
   void mark_dirty(int t, int fields, int begin, int end, int wrap_end = 0);
-  // acc_ on thread t's share of the nodes = the per-thread buffers summed in thread order.
+  // acc_ on thread t's share of the nodes += the per-thread buffers, in thread order.
   void reduce_part(int fields, int t);
   // The stencil of point p of a phase (0 solid, 1 liquid) at the start of the step; on the polar
   // grid (a closed-form location, dearer than the Cartesian one) located once per step, then

@@ -24,13 +24,21 @@ double Solver::viscosity_at(double nu) const {
   return model::mixture_viscosity(liquid_options_.closure, std::max(nu, 0.0));
 }
 
+namespace {
+// Darcy: n (v_L - v_S) = -(k_D/γ_w) ∇p  =>  β = n² (γ_w / k_D); none without solid.
+inline double darcy_drag(double n, double gamma_over_k) {
+  return n >= 1.0 - 1e-12 ? 0.0 : n * n * gamma_over_k;
+}
+inline double darcy_gamma_over_k(const LiquidOptions& o) {
+  return o.density * o.darcy_gravity / o.hydraulic_conductivity;
+}
+}  // namespace
+
 double Solver::drag_at(double n, long p) const {
-  if (n >= 1.0 - 1e-12) return 0.0;  // no solid: nothing to drag against
   if (liquid_options_.drag_law == DragLaw::darcy) {
-    // Darcy: n (v_L - v_S) = -(k_D/γ_w) ∇p  =>  β = n² γ_w / k_D
-    return n * n * liquid_options_.density * liquid_options_.darcy_gravity /
-           liquid_options_.hydraulic_conductivity;
+    return darcy_drag(n, darcy_gamma_over_k(liquid_options_));
   }
+  if (n >= 1.0 - 1e-12) return 0.0;  // no solid: nothing to drag against
   if (forchheimer_) {
     // Ergun (1952) with its inertial term: -∇p = (η0/κ) q + c_F |q| q, q = n (u_L - u_S), so
     // β = η0 n / κ + c_F n² |u_L - u_S| (model::drag_coefficient_with_inertia), with the
@@ -43,11 +51,11 @@ double Solver::drag_at(double n, long p) const {
 
 void Solver::refresh_liquid_state() {
   // Volume, viscous stress and drag of the liquid points from p, n and L (no time increment).
-  const double K = liquid_options_.bulk_modulus, rho0 = liquid_options_.density;
+  const double inv_K = 1.0 / liquid_options_.bulk_modulus, inv_rho0 = 1.0 / liquid_options_.density;
   for (std::size_t p = 0; p < liquid_.size(); ++p) {
     const double n = liquid_.porosity[p];
     liquid_.volume[p] =
-        liquid_.mass[p] / (n * rho0 * model::exp_near_zero(liquid_.pressure[p] / K));
+        liquid_point_volume(liquid_.mass[p], 1.0 / n, inv_rho0, liquid_.pressure[p], inv_K);
     liquid_.drag[p] = drag_at(n, static_cast<long>(p));
   }
 }
@@ -161,7 +169,8 @@ void Solver::constitutive_update(bool move) {
   }
   const long ns = static_cast<long>(solid_.size());
   const long nl = static_cast<long>(liquid_.size());
-  const double K = liquid_options_.bulk_modulus, rho0 = liquid_options_.density;
+  const double K = liquid_options_.bulk_modulus;
+  const double inv_K = 1.0 / K, inv_rho0 = 1.0 / liquid_options_.density;
   const bool viscous = liquid_options_.viscosity > 0.0;
   double* rate = volumetric_rate_.data();
   // The pore pressure needs the volumetric rate of all liquid points first only when it is
@@ -173,29 +182,44 @@ void Solver::constitutive_update(bool move) {
     const double n = liquid_.porosity[p];
     rate[p] = n * (liquid_.Lxx[p] + liquid_.Lyy[p]) + (1.0 - n) * div_solid_[p];
   };
+  // The arrays as local pointers, and Darcy's β inline: the pass then keeps them in registers
+  // (a call or a member access per point makes the compiler reload every array's address).
+  LiquidPoints& lq = liquid_;
+  const double* const l_n = lq.porosity.data();
+  const double* const l_m = lq.mass.data();
+  const double* const l_Lxx = lq.Lxx.data();
+  const double* const l_Lyy = lq.Lyy.data();
+  double* const l_p = lq.pressure.data();
+  double* const l_V = lq.volume.data();
+  double* const l_drag = lq.drag.data();
+  double* const l_x = lq.x.data();
+  double* const l_y = lq.y.data();
+  const double* const l_dx = displacement_x_[1].data();
+  const double* const l_dy = displacement_y_[1].data();
+  const bool darcy = liquid_options_.drag_law == DragLaw::darcy;
+  const double gamma_over_k = darcy_gamma_over_k(liquid_options_);
   auto liquid_point = [&](long p) {
-    const double n = liquid_.porosity[p];
-    const double tr_l = liquid_.Lxx[p] + liquid_.Lyy[p];
+    const double n = l_n[p], inv_n = 1.0 / n;
+    const double tr_l = l_Lxx[p] + l_Lyy[p];
     // Storage equation of the double-point formulation (incompressible grains):
     //   dp = -(K_w / n) [ n tr(D_L) + (1 - n) tr(D_S) ] dt
-    liquid_.pressure[p] -= dt * (K / n) * rate[p];
+    const double pressure = l_p[p] - dt * (K * inv_n) * rate[p];
+    l_p[p] = pressure;
     // Mixture volume the point stands for: V = m / (n ρ_w), ρ_w = ρ_w0 exp(p / K_w).
-    liquid_.volume[p] =
-        liquid_.mass[p] / (n * rho0 * model::exp_near_zero(liquid_.pressure[p] / K));
+    l_V[p] = liquid_point_volume(l_m[p], inv_n, inv_rho0, pressure, inv_K);
     if (viscous) {
       const double eta = viscosity_at(1.0 - n);
       const double third = tr_l / 3.0;
-      liquid_.txx[p] = 2.0 * eta * (liquid_.Lxx[p] - third);
-      liquid_.tyy[p] = 2.0 * eta * (liquid_.Lyy[p] - third);
-      liquid_.tzz[p] = -2.0 * eta * third;
-      liquid_.txy[p] = eta * (liquid_.Lxy[p] + liquid_.Lyx[p]);
+      lq.txx[p] = 2.0 * eta * (l_Lxx[p] - third);
+      lq.tyy[p] = 2.0 * eta * (l_Lyy[p] - third);
+      lq.tzz[p] = -2.0 * eta * third;
+      lq.txy[p] = eta * (lq.Lxy[p] + lq.Lyx[p]);
     }
-    liquid_.drag[p] = drag_at(n, static_cast<long>(p));
-    const double check = liquid_.pressure[p] + liquid_.txy[p] + liquid_.vx[p] + liquid_.vy[p] +
-                         liquid_.x[p] + liquid_.y[p];
+    l_drag[p] = darcy ? darcy_drag(n, gamma_over_k) : drag_at(n, p);
+    const double check = pressure + lq.txy[p] + lq.vx[p] + lq.vy[p] + l_x[p] + l_y[p];
     if (move) {
-      liquid_.x[p] += displacement_x_[1][p];
-      liquid_.y[p] += displacement_y_[1][p];
+      l_x[p] += l_dx[p];
+      l_y[p] += l_dy[p];
     }
     return !std::isfinite(check);
   };
@@ -308,13 +332,13 @@ void Solver::cell_constant_pressure() {
       acc[nn + liquid_cell_[p]] += liquid_.volume[p];
     }
   });
-  const double K = liquid_options_.bulk_modulus, rho0 = liquid_options_.density;
+  const double inv_K = 1.0 / liquid_options_.bulk_modulus, inv_rho0 = 1.0 / liquid_options_.density;
 #pragma omp parallel for schedule(static) num_threads(threads_) if (threads_ > 1)
   for (long p = 0; p < nl; ++p) {
     liquid_.pressure[p] = acc_[liquid_cell_[p]] / acc_[nn + liquid_cell_[p]];
     // V = m / (n ρ_w), ρ_w = ρ_w0 exp(p / K_w), with the cell's pressure.
-    liquid_.volume[p] = liquid_.mass[p] / (liquid_.porosity[p] * rho0 *
-                                           model::exp_near_zero(liquid_.pressure[p] / K));
+    liquid_.volume[p] = liquid_point_volume(liquid_.mass[p], 1.0 / liquid_.porosity[p], inv_rho0,
+                                            liquid_.pressure[p], inv_K);
   }
 }
 

@@ -13,6 +13,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "continuum/model/exp_near_zero.hpp"
 #include "continuum/mpm/solver.hpp"
 
 namespace granflow::mpm::solver_internal {
@@ -36,6 +37,13 @@ inline void chunk(std::size_t n, int t, int T, std::size_t& b, std::size_t& e) {
 inline void node_share(int nn, int t, int T, int& b, int& e) {
   b = static_cast<int>(static_cast<long>(nn) * t / T);
   e = static_cast<int>(static_cast<long>(nn) * (t + 1) / T);
+}
+
+// V = m / (n ρ_w), ρ_w = ρ_w0 exp(p / K_w): the mixture volume a liquid point of mass m stands
+// for, as m (1/n)(1/ρ_w0) exp(−p/K_w), so that its only division, 1/n, is shared with the
+// storage equation (one function wherever a liquid point's volume is computed).
+inline double liquid_point_volume(double m, double inv_n, double inv_rho0, double p, double inv_K) {
+  return m * inv_n * inv_rho0 * model::exp_near_zero(-p * inv_K);
 }
 
 // Linear shapes have stencils of a fixed width (the 4 nodes of the cell) on both grids, which

@@ -67,34 +67,39 @@ void Solver::solve_nodes(int begin, int end) {
   const bool implicit_drag = options_.drag_integration == DragIntegration::semi_implicit;
   double* A = acc_.data();
   NodeFields& out = nodes_;
+  // One division per phase and node: the nodal velocities and accelerations are the sums times
+  // 1/m (a division costs several multiplications; the results move by an ulp).
+  const double inv_dt = 1.0 / dt;
   for (int a = begin; a < end; ++a) {
     const double ms = A[MS * nn + a];
-    const double n = ms > floor ? std::clamp(A[NMS * nn + a] / (ms / s), 0.0, 1.0) : 1.0;
+    const double inv_ms = ms > floor ? 1.0 / ms : 0.0;
+    const double n = ms > floor ? std::clamp(A[NMS * nn + a] * s * inv_ms, 0.0, 1.0) : 1.0;
     porosity_[a] = n;
     out.porosity[a] = n;
     out.mass_solid[a] = ms / s;
     double fxs = A[FXS * nn + a], fys = A[FYS * nn + a];
-    const double vxs0 = ms > floor ? A[PXS * nn + a] / ms : 0.0;
-    const double vys0 = ms > floor ? A[PYS * nn + a] / ms : 0.0;
+    const double vxs0 = A[PXS * nn + a] * inv_ms;
+    const double vys0 = A[PYS * nn + a] * inv_ms;
     if (!wet) {
       if (alpha > 0) {  // Cundall local damping: f -= α |f| sign(v)
         fxs -= alpha * std::fabs(fxs) * sign(vxs0);
         fys -= alpha * std::fabs(fys) * sign(vys0);
       }
       if (ms > floor) {
-        out.vx_solid[a] = vxs0 + dt * fxs / ms;
-        out.vy_solid[a] = vys0 + dt * fys / ms;
-        asx_[a] = fxs / ms;
-        asy_[a] = fys / ms;
+        asx_[a] = fxs * inv_ms;
+        asy_[a] = fys * inv_ms;
+        out.vx_solid[a] = vxs0 + dt * asx_[a];
+        out.vy_solid[a] = vys0 + dt * asy_[a];
       } else {
         out.vx_solid[a] = out.vy_solid[a] = asx_[a] = asy_[a] = 0.0;
       }
       continue;
     }
     const double ml = A[ML * nn + a];
+    const double inv_ml = ml > floor ? 1.0 / ml : 0.0;
     out.mass_liquid[a] = ml / s;
-    const double vxl0 = ml > floor ? A[PXL * nn + a] / ml : 0.0;
-    const double vyl0 = ml > floor ? A[PYL * nn + a] / ml : 0.0;
+    const double vxl0 = A[PXL * nn + a] * inv_ml;
+    const double vyl0 = A[PYL * nn + a] * inv_ml;
     double fxl = A[FXL * nn + a], fyl = A[FYL * nn + a];
     // Liquid-stress force shared by volume fraction: n to the liquid, (1 - n) to the solid
     // (this carries the buoyancy/interaction term p ∇n; see docs/mpm.md).
@@ -123,33 +128,34 @@ void Solver::solve_nodes(int begin, int end) {
         // momentum P_L + P_S is kept exactly.
         const double Psx = ms * vxs0 + dt * fxs, Psy = ms * vys0 + dt * fys;
         const double Plx = ml * vxl0 + dt * fxl, Ply = ml * vyl0 + dt * fyl;
-        const double k = 1.0 / (1.0 + dt * C * (1.0 / ml + 1.0 / ms));
-        const double wx = (Plx / ml - Psx / ms) * k, wy = (Ply / ml - Psy / ms) * k;
-        vxs = (Psx + Plx - ml * wx) / (ms + ml);
-        vys = (Psy + Ply - ml * wy) / (ms + ml);
+        const double k = 1.0 / (1.0 + dt * C * (inv_ml + inv_ms));
+        const double wx = (Plx * inv_ml - Psx * inv_ms) * k, wy = (Ply * inv_ml - Psy * inv_ms) * k;
+        const double inv_m = 1.0 / (ms + ml);
+        vxs = (Psx + Plx - ml * wx) * inv_m;
+        vys = (Psy + Ply - ml * wy) * inv_m;
         vxl = vxs + wx;
         vyl = vys + wy;
       } else {
         const double dx = C * (vxl0 - vxs0), dy = C * (vyl0 - vys0);
-        vxs = vxs0 + dt * (fxs + dx) / ms;
-        vys = vys0 + dt * (fys + dy) / ms;
-        vxl = vxl0 + dt * (fxl - dx) / ml;
-        vyl = vyl0 + dt * (fyl - dy) / ml;
+        vxs = vxs0 + dt * (fxs + dx) * inv_ms;
+        vys = vys0 + dt * (fys + dy) * inv_ms;
+        vxl = vxl0 + dt * (fxl - dx) * inv_ml;
+        vyl = vyl0 + dt * (fyl - dy) * inv_ml;
       }
     } else {
-      vxs = ms > floor ? vxs0 + dt * fxs / ms : 0.0;
-      vys = ms > floor ? vys0 + dt * fys / ms : 0.0;
-      vxl = ml > floor ? vxl0 + dt * fxl / ml : 0.0;
-      vyl = ml > floor ? vyl0 + dt * fyl / ml : 0.0;
+      vxs = ms > floor ? vxs0 + dt * fxs * inv_ms : 0.0;
+      vys = ms > floor ? vys0 + dt * fys * inv_ms : 0.0;
+      vxl = ml > floor ? vxl0 + dt * fxl * inv_ml : 0.0;
+      vyl = ml > floor ? vyl0 + dt * fyl * inv_ml : 0.0;
     }
     out.vx_solid[a] = vxs;
     out.vy_solid[a] = vys;
     out.vx_liquid[a] = vxl;
     out.vy_liquid[a] = vyl;
-    asx_[a] = (vxs - vxs0) / dt;
-    asy_[a] = (vys - vys0) / dt;
-    alx_[a] = (vxl - vxl0) / dt;
-    aly_[a] = (vyl - vyl0) / dt;
+    asx_[a] = (vxs - vxs0) * inv_dt;
+    asy_[a] = (vys - vys0) * inv_dt;
+    alx_[a] = (vxl - vxl0) * inv_dt;
+    aly_[a] = (vyl - vyl0) * inv_dt;
   }
   // Velocity conditions at t + dt; the acceleration follows the prescribed velocity.
   for (int phase = 0; phase < (wet ? 2 : 1); ++phase) {
@@ -198,12 +204,14 @@ void Solver::remap_nodes(int begin, int end) {
   NodeFields& out = nodes_;
   for (int a = begin; a < end; ++a) {
     const double ms = A[R_MS * nn + a];
-    out.vx_solid[a] = ms > floor ? A[R_PXS * nn + a] / ms : 0.0;
-    out.vy_solid[a] = ms > floor ? A[R_PYS * nn + a] / ms : 0.0;
+    const double inv_ms = ms > floor ? 1.0 / ms : 0.0;
+    out.vx_solid[a] = A[R_PXS * nn + a] * inv_ms;
+    out.vy_solid[a] = A[R_PYS * nn + a] * inv_ms;
     if (wet) {
       const double ml = A[R_ML * nn + a];
-      out.vx_liquid[a] = ml > floor ? A[R_PXL * nn + a] / ml : 0.0;
-      out.vy_liquid[a] = ml > floor ? A[R_PYL * nn + a] / ml : 0.0;
+      const double inv_ml = ml > floor ? 1.0 / ml : 0.0;
+      out.vx_liquid[a] = A[R_PXL * nn + a] * inv_ml;
+      out.vy_liquid[a] = A[R_PYL * nn + a] * inv_ml;
     }
   }
   apply_conditions(Phase::solid, out.vx_solid.data(), out.vy_solid.data(), begin, end);

@@ -119,11 +119,29 @@ inline void point_gradient(const QuadRows& q, const double* vx, const double* vy
 // (On the polar grid the second row precedes the first in the last sector, where θ wraps.)
 inline void add_span(NodeSpan& span, const QuadRows& q) { span.add_rows(q.node[0], q.node[1]); }
 
+// The thread's share [b, e) of the nodes (node_share): a point whose four nodes all lie in it is
+// added straight into acc_ (Solver::scatter_buffer), the others into the thread's buffer. On one
+// thread the buffer is acc_ and every point is "owned".
+struct OwnedNodes {
+  int b, e;
+  bool owns(const QuadRows& q) const {
+    const int lo = std::min(q.node[0], q.node[1]), hi = std::max(q.node[0], q.node[1]) + 2;
+    return lo >= b && hi <= e;
+  }
+};
+inline OwnedNodes owned_nodes(int nn, int t, int T) {
+  OwnedNodes o{};
+  node_share(nn, t, T, o.b, o.e);
+  return o;
+}
+
 }  // namespace
 
-// fx = (x - x0)/h_x, i = min(floor(fx), nx - 1), ξ = fx - i (and so for y): the operations of
-// CartesianGrid::stencil, without a branch so that the loop vectorises (the comparisons are made
-// for every point, which -fno-trapping-math lets the compiler do in vectors).
+// fx = (x - x0)/h_x, i = min(floor(fx), nx - 1), ξ = fx - i (and so for y): the location of
+// CartesianGrid::stencil, with (x - x0)(1/h_x) for the division (a packed division is the
+// slowest operation of the loop; ξ changes by an ulp), without a branch so that the loop
+// vectorises (the comparisons are made for every point, which -fno-trapping-math lets the
+// compiler do in vectors).
 void Solver::locate_cells(const CartesianGrid& grid, int phase, std::size_t b, std::size_t e) {
   const PointFields& pts = phase == 0 ? static_cast<const PointFields&>(solid_)
                                       : static_cast<const PointFields&>(liquid_);
@@ -133,11 +151,11 @@ void Solver::locate_cells(const CartesianGrid& grid, int phase, std::size_t b, s
   int* __restrict node = c.node.data();
   double* __restrict xi = c.xi.data();
   double* __restrict eta = c.eta.data();
-  const double x0 = grid.x0(), y0 = grid.y0(), hx = grid.hx(), hy = grid.hy();
+  const double x0 = grid.x0(), y0 = grid.y0(), inv_hx = c.inv_hx, inv_hy = c.inv_hy;
   const int nx = grid.cells_x(), ny = grid.cells_y(), row = nx + 1;
   const double fx_max = nx, fy_max = ny;
   for (std::size_t p = b; p < e; ++p) {
-    const double fx = (x[p] - x0) / hx, fy = (y[p] - y0) / hy;
+    const double fx = (x[p] - x0) * inv_hx, fy = (y[p] - y0) * inv_hy;
     const bool inside = (fx >= 0.0) & (fy >= 0.0) & (fx <= fx_max) & (fy <= fy_max);
     const double gx = inside ? fx : 0.0, gy = inside ? fy : 0.0;  // no cast of a NaN or huge f
     const int i = std::min(static_cast<int>(gx), nx - 1);
@@ -165,19 +183,15 @@ void Solver::map_first_quad(const G& grid, int t) {
   const int nn = nn_, T = threads_;
   const int fields = wet ? NF : solid_fields;
   const double s = options_.mass_scaling, gx = options_.gravity_x, gy = options_.gravity_y;
-  double* acc = scatter_buffer(t, fields);
+  double* const mine = scatter_buffer(t, fields);
+  double* const direct = acc_.data();
+  const OwnedNodes owned = owned_nodes(nn, t, T);
   NodeSpan span;
   long* lost = slots_[t].lost;
   std::size_t b, e;
   chunk(solid_.size(), t, T, b, e);
   locate_cells(grid, 0, b, e);
   {
-    double* ms = acc + MS * nn;
-    double* pxs = acc + PXS * nn;
-    double* pys = acc + PYS * nn;
-    double* fxs = acc + FXS * nn;
-    double* fys = acc + FYS * nn;
-    double* nms = acc + NMS * nn;
     const SolidPoints& sp = solid_;
     const auto cells = view(0);
     QuadRows q;
@@ -186,7 +200,15 @@ void Solver::map_first_quad(const G& grid, int t) {
         if (lost[0] < 0) lost[0] = static_cast<long>(p);
         continue;
       }
-      if (T > 1) add_span(span, q);
+      const bool own = owned.owns(q);
+      if (!own) add_span(span, q);
+      double* const acc = own ? direct : mine;
+      double* ms = acc + MS * nn;
+      double* pxs = acc + PXS * nn;
+      double* pys = acc + PYS * nn;
+      double* fxs = acc + FXS * nn;
+      double* fys = acc + FYS * nn;
+      double* nms = acc + NMS * nn;
       const SolidLoad load = solid_load(sp, p, s, gx, gy);
       for (int r = 0; r < 2; ++r) {
         const int a = q.node[r];
@@ -196,14 +218,6 @@ void Solver::map_first_quad(const G& grid, int t) {
     }
   }
   if (wet) {
-    double* ml = acc + ML * nn;
-    double* pxl = acc + PXL * nn;
-    double* pyl = acc + PYL * nn;
-    double* fxl = acc + FXL * nn;
-    double* fyl = acc + FYL * nn;
-    double* glx = acc + GLX * nn;
-    double* gly = acc + GLY * nn;
-    double* cd = acc + CD * nn;
     const LiquidPoints& lp = liquid_;
     chunk(lp.size(), t, T, b, e);
     locate_cells(grid, 1, b, e);
@@ -214,7 +228,17 @@ void Solver::map_first_quad(const G& grid, int t) {
         if (lost[1] < 0) lost[1] = static_cast<long>(p);
         continue;
       }
-      if (T > 1) add_span(span, q);
+      const bool own = owned.owns(q);
+      if (!own) add_span(span, q);
+      double* const acc = own ? direct : mine;
+      double* ml = acc + ML * nn;
+      double* pxl = acc + PXL * nn;
+      double* pyl = acc + PYL * nn;
+      double* fxl = acc + FXL * nn;
+      double* fyl = acc + FYL * nn;
+      double* glx = acc + GLX * nn;
+      double* gly = acc + GLY * nn;
+      double* cd = acc + CD * nn;
       const LiquidLoad load = liquid_load(lp, p, s, gx, gy);
       for (int r = 0; r < 2; ++r) {
         const int a = q.node[r];
@@ -237,12 +261,14 @@ void Solver::update_points_quad(const G& grid, int t, bool remap) {
   const bool wet = liquid_.size() > 0;
   const int nn = nn_, T = threads_;
   const int fields = wet ? 6 : 3;
-  double* acc = remap ? scatter_buffer(t, fields) : nullptr;
+  double* const mine = remap ? scatter_buffer(t, fields) : nullptr;
+  double* const direct = acc_.data();
+  const OwnedNodes owned = owned_nodes(nn, t, T);
   NodeSpan span;
   const double* vxs = nodes_.vx_solid.data();
   const double* vys = nodes_.vy_solid.data();
   auto g2p = [&](int phase, PointFields& pts, const double* vx, const double* vy, const double* ax,
-                 const double* ay, bool extras, double* m_, double* px_, double* py_) {
+                 const double* ay, bool extras, int field_m, int field_px, int field_py) {
     double* dx = displacement_x_[phase].data();
     double* dy = displacement_y_[phase].data();
     const auto cells = view(phase);
@@ -272,7 +298,12 @@ void Solver::update_points_quad(const G& grid, int t, bool remap) {
             });
       }
       if (remap) {  // MUSL: m_a = Σ N m, (m v)_a = Σ N m v_new
-        if (T > 1) add_span(span, q);
+        const bool own = owned.owns(q);
+        if (!own) add_span(span, q);
+        double* const acc = own ? direct : mine;
+        double* const m_ = acc + field_m * nn;
+        double* const px_ = acc + field_px * nn;
+        double* const py_ = acc + field_py * nn;
         const double mi = pts.mass[p] * s, mvx = mi * vx_new, mvy = mi * vy_new;
         for (int r = 0; r < 2; ++r) {
           const int a = q.node[r];
@@ -283,13 +314,10 @@ void Solver::update_points_quad(const G& grid, int t, bool remap) {
       }
     }
   };
-  double* none = nullptr;
-  g2p(0, solid_, vxs, vys, asx_.data(), asy_.data(), false, remap ? acc + R_MS * nn : none,
-      remap ? acc + R_PXS * nn : none, remap ? acc + R_PYS * nn : none);
+  g2p(0, solid_, vxs, vys, asx_.data(), asy_.data(), false, R_MS, R_PXS, R_PYS);
   if (wet) {
     g2p(1, liquid_, nodes_.vx_liquid.data(), nodes_.vy_liquid.data(), alx_.data(), aly_.data(),
-        true, remap ? acc + R_ML * nn : none, remap ? acc + R_PXL * nn : none,
-        remap ? acc + R_PYL * nn : none);
+        true, R_ML, R_PXL, R_PYL);
   }
   if (remap) mark_dirty(t, fields, span.begin, span.end, span.wrap_end);
 }

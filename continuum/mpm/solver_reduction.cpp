@@ -23,6 +23,14 @@ double* Solver::scatter_buffer(int t, int fields) {
     std::fill(field, field + slot.dirty_wrap_end, 0.0);
   }
   slot.dirty_fields = slot.dirty_begin = slot.dirty_end = slot.dirty_wrap_end = 0;
+  // acc_ on this thread's share: the owner's direct contributions land here, the reduction adds
+  // the buffers to them.
+  int b, e;
+  node_share(nn_, t, threads_, b, e);
+  for (int f = 0; f < fields; ++f) {
+    double* out = acc_.data() + static_cast<std::size_t>(f) * nn_;
+    std::fill(out + b, out + e, 0.0);
+  }
   return mine;
 }
 
@@ -41,12 +49,13 @@ void Solver::mark_dirty(int t, int fields, int begin, int end, int wrap_end) {
   slot.dirty_wrap_end = wrap_end;
 }
 
-// Sum in thread order starting from 0.0, as a serial loop over the threads would: a given thread
-// count reproduces itself bit for bit. A buffer is zero outside the span its thread dirtied, so
-// only that span is read (a thread's chunk of points touches a band of the grid, not all of it;
-// on the polar grid the band of the last θ-chunk continues across the seam θ = 0 into the first
-// rays, a second interval, so that the span is not the whole grid: 0 + x = x, skipping the zeros
-// changes no sum).
+// Sum in a fixed order: the owner's direct contributions (zero where it wrote none), then the
+// buffers in thread order, as a serial loop over the threads would: a given thread count
+// reproduces itself bit for bit (which points are direct depends only on the positions). A
+// buffer is zero outside the span its thread dirtied, so only that span is read (a thread's
+// chunk of points touches a band of the grid, not all of it; on the polar grid the band of the
+// last θ-chunk continues across the seam θ = 0 into the first rays, a second interval, so that
+// the span is not the whole grid: x + 0 = x, skipping the zeros changes no sum).
 void Solver::reduce_part(int fields, int t) {
   if (threads_ == 1) return;
   int b, e;
@@ -54,7 +63,6 @@ void Solver::reduce_part(int fields, int t) {
   const std::size_t stride = static_cast<std::size_t>(NF) * nn_;
   for (int f = 0; f < fields; ++f) {
     double* out = acc_.data() + static_cast<std::size_t>(f) * nn_;
-    std::fill(out + b, out + e, 0.0);
     for (int u = 0; u < threads_; ++u) {
       const ThreadSlot& slot = slots_[u];
       if (f >= slot.dirty_fields) continue;
