@@ -46,16 +46,20 @@ void jaumann_elastic(std::size_t b, std::size_t e, double dt, double lam, double
 }  // namespace
 
 void LinearElastic::update_stress(const StressUpdateView& v, double dt) {
-  const double lam = lambda_, G2 = 2.0 * shear_modulus_;
   const std::size_t n = end_ - begin_;
   // Fixed contiguous chunks per thread, as the schedule(static) loop this replaces.
 #pragma omp parallel num_threads(v.threads) if (v.threads > 1)
   {
     const std::size_t T = static_cast<std::size_t>(omp_get_num_threads());
     const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
-    jaumann_elastic(begin_ + n * t / T, begin_ + n * (t + 1) / T, dt, lam, G2, v.Lxx, v.Lxy, v.Lyx,
-                    v.Lyy, v.sxx, v.syy, v.szz, v.sxy);
+    update_range(v, dt, begin_ + n * t / T, begin_ + n * (t + 1) / T, static_cast<int>(t));
   }
+}
+
+void LinearElastic::update_range(const StressUpdateView& v, double dt, std::size_t b, std::size_t e,
+                                 int /*t*/) {
+  jaumann_elastic(b, e, dt, lambda_, 2.0 * shear_modulus_, v.Lxx, v.Lxy, v.Lyx, v.Lyy, v.sxx, v.syy,
+                  v.szz, v.sxy);
 }
 
 LinearElasticParameters read_linear_elastic(const core::Case& c) {

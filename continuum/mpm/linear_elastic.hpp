@@ -29,6 +29,9 @@ class LinearElastic final : public SolidMaterial {
   double grain_density() const override { return grain_density_; }
   double p_wave_modulus() const override { return lambda_ + 2.0 * shear_modulus_; }
   void update_stress(const StressUpdateView& view, double dt) override;
+  bool updates_points_independently() const override { return true; }
+  void update_range(const StressUpdateView& view, double dt, std::size_t b, std::size_t e,
+                    int t) override;
 
  private:
   std::string name_ = material_name;

@@ -1,6 +1,7 @@
 #include "continuum/mpm/multi_regime_material.hpp"
 
 #include <fmt/format.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -97,18 +98,34 @@ inline void rotate(double& xx, double& yy, double& xy, double w_dt) {
 }  // namespace
 
 void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
-  const long b = static_cast<long>(begin_), e = static_cast<long>(end_);
+  if (nonlocal_) r_c_start_.assign(r_c_.begin(), r_c_.end());
+  begin_ranges(v.threads);
+  // Static contiguous parts: on 2 threads the rheometer's first 1000 steps took 2.09 ms per step
+  // against 2.28 with schedule(dynamic, 64) and 2.19 with (dynamic, 384) (1 thread: 3.6-3.8 ms;
+  // docs/performance.md#rheometer_bench). The plastic points lie in rings, which every θ-part of
+  // the annulus holds alike.
+  const std::size_t n = end_ - begin_;
+#pragma omp parallel num_threads(v.threads) if (v.threads > 1)
+  {
+    const std::size_t T = static_cast<std::size_t>(omp_get_num_threads());
+    const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
+    update_range(v, dt, begin_ + n * t / T, begin_ + n * (t + 1) / T, static_cast<int>(t));
+  }
+  finish_ranges(v);
+  if (nonlocal_) average_softening(v);
+}
+
+void MultiRegimeMaterial::begin_ranges(int threads) {
+  range_results_.assign(static_cast<std::size_t>(std::max(threads, 1)), RangeResult{});
+}
+
+void MultiRegimeMaterial::update_range(const StressUpdateView& v, double dt, std::size_t first,
+                                       std::size_t last, int t) {
+  const long b = static_cast<long>(begin_);
   long bad = -1;
   double max_p = 0.0;
   long clamped = 0;
-  if (nonlocal_) r_c_start_.assign(r_c_.begin(), r_c_.end());
-    // Static contiguous halves: on 2 threads the rheometer's first 1000 steps took 2.09 ms per step
-    // against 2.28 with schedule(dynamic, 64) and 2.19 with (dynamic, 384) (1 thread: 3.6-3.8 ms;
-    // docs/performance.md#rheometer_bench). The plastic points lie in rings, which every θ-half
-    // of the annulus holds alike.
-#pragma omp parallel for schedule(static) num_threads(v.threads) if (v.threads > 1) \
-    reduction(max : bad, max_p) reduction(+ : clamped)
-  for (long p = b; p < e; ++p) {
+  for (long p = static_cast<long>(first); p < static_cast<long>(last); ++p) {
     const std::size_t k = static_cast<std::size_t>(p - b);
     const double Dxx = v.Lxx[p], Dyy = v.Lyy[p], Dxy = 0.5 * (v.Lxy[p] + v.Lyx[p]);
     const double w_dt = 0.5 * (v.Lxy[p] - v.Lyx[p]) * dt;
@@ -181,17 +198,29 @@ void MultiRegimeMaterial::update_stress(const StressUpdateView& v, double dt) {
         !std::isfinite(st.granular_temperature) || st.granular_temperature < 0.0)
       bad = std::max(bad, p);
   }
+  RangeResult& r = range_results_[static_cast<std::size_t>(t)];
+  r.bad = bad;
+  r.max_p = max_p;
+  r.clamped = clamped;
+}
+
+void MultiRegimeMaterial::finish_ranges(const StressUpdateView& v) {
+  long bad = -1;
+  double max_p = 0.0;
+  for (const RangeResult& r : range_results_) {  // max and integer sums: in any order exact
+    bad = std::max(bad, r.bad);
+    max_p = std::max(max_p, r.max_p);
+    clamped_updates_ += r.clamped;
+  }
   max_effective_pressure_ = max_p;
-  clamped_updates_ += clamped;
   if (bad >= 0) {
-    const std::size_t k = static_cast<std::size_t>(bad - b);
+    const std::size_t k = static_cast<std::size_t>(bad) - begin_;
     throw core::NumericalFailure(
         -1, fmt::format("solid point {}", bad), "multi_regime stress/T", v.temperature[bad],
         fmt::format("multi-regime update failed (n = {:.4g}, r_c = {:.4g} Pa, "
                     "T = {:.4g} m²/s²; ν outside the closures' range, or NaN)",
                     v.porosity[bad], r_c_[k], v.temperature[bad]));
   }
-  if (nonlocal_) average_softening(v);
 }
 
 // Non-local softening of the locus (ℓ > 0). The softening variable of the force chains is the

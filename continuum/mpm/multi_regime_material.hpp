@@ -58,6 +58,12 @@ class MultiRegimeMaterial final : public SolidMaterial {
   // into the solid-point arrays (tension positive).
   void initialize(SolidPoints& points);
   void update_stress(const StressUpdateView& view, double dt) override;
+  // Independent point updates unless the softening is averaged non-locally (ℓ > 0).
+  bool updates_points_independently() const override { return !nonlocal_; }
+  void begin_ranges(int threads) override;
+  void update_range(const StressUpdateView& view, double dt, std::size_t b, std::size_t e,
+                    int t) override;
+  void finish_ranges(const StressUpdateView& view) override;
   std::vector<std::pair<std::string, std::vector<double>*>> state() override;
   // Internal length ℓ (m) of the non-local softening and the over-nonlocal factor m (1: plain
   // non-local average, which still lets the softening localize into one point spacing; 2: the
@@ -91,6 +97,14 @@ class MultiRegimeMaterial final : public SolidMaterial {
   double max_effective_pressure_ = 0.0;
   double solid_fraction_limit_ = 0.74;  // ν_lim: below ν_c and the η(ν) maximum packing
   long clamped_updates_ = 0;
+  // each thread's results of update_range, combined by finish_ranges: the last failed point,
+  // the largest mean σ_FC, the clamped updates (one cache line per thread)
+  struct alignas(64) RangeResult {
+    long bad = -1;
+    double max_p = 0.0;
+    long clamped = 0;
+  };
+  std::vector<RangeResult> range_results_;
   // non-local softening (ℓ > 0 only): r_c at the start of the step, relative increment of the
   // local update, its average, and which points have a locus (r_c > 0)
   std::unique_ptr<NonlocalAverage> nonlocal_;

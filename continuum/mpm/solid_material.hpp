@@ -50,6 +50,17 @@ class SolidMaterial {
   }
   // Update the stress of all its points for a step dt, given L at the points.
   virtual void update_stress(const StressUpdateView& view, double dt) = 0;
+  // A material whose point updates are independent (each reads and writes its own point only,
+  // its per-point results combined by finish_ranges) may instead be updated from inside the
+  // solver's parallel region, with no fork/join of its own: begin_ranges(T) once, then
+  // update_range(view, dt, b, e, t) on every thread t over its part [b, e) of the material's
+  // points, then finish_ranges(view) once, which combines the threads' results and throws a
+  // failure (update_range must not throw). The same points give the same results either way.
+  virtual bool updates_points_independently() const { return false; }
+  virtual void begin_ranges(int /*threads*/) {}
+  virtual void update_range(const StressUpdateView& /*view*/, double /*dt*/, std::size_t /*b*/,
+                            std::size_t /*e*/, int /*t*/) {}
+  virtual void finish_ranges(const StressUpdateView& /*view*/) {}
   // Internal state arrays (one value per point of the range), by name, for checkpoint/restart
   // and field output; none for a material without history.
   virtual std::vector<std::pair<std::string, std::vector<double>*>> state() { return {}; }

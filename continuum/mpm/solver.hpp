@@ -179,8 +179,16 @@ class Solver {
   void store_gradient(PointFields& pts, long p, double Lxx, double Lxy, double Lyx, double Lyy,
                       bool extras, double div_s, double n_at, int first_node);
   // Stress, volume, porosity, pore pressure and the finite checks; with `move`, also the
-  // positions (x += Δx of the step) in the same pass.
+  // positions (x += Δx of the step) in the same pass. In pieces (solver_constitutive.cpp):
+  // constitutive_points on every thread (inside the step's parallel region when
+  // materials_in_step_region), then finish_constitutive.
   void constitutive_update(bool move);
+  void constitutive_points(int t, bool move, bool materials);
+  void finish_constitutive(bool move, bool materials);
+  StressUpdateView stress_view();
+  bool materials_in_step_region() const;
+  bool liquid_rate_pass() const;
+  struct LiquidPass;
   template <class G, ShapeKind S>
   void conduct_temperature(const G& grid);
   // Scatter with per-thread node buffers in its own parallel region (conduction, the cell-averaged
@@ -287,6 +295,7 @@ class Solver {
     // non-zero part of its buffer: [dirty_begin, dirty_end) and [0, dirty_wrap_end) (disjoint)
     int dirty_fields = 0, dirty_begin = 0, dirty_end = 0, dirty_wrap_end = 0;
     long lost[2] = {-1, -1};  // first point of its chunk, per phase, found outside the grid
+    long bad[2] = {-1, -1};   // last point of its chunk, per phase, with a non-finite value
     double sum[2] = {0, 0};   // partial sums of a reduction over its chunk
   };
   std::vector<ThreadSlot> slots_;

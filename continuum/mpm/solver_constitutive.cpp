@@ -142,107 +142,179 @@ long solid_volume_pass(std::size_t b, std::size_t e, double dt, const double* __
 
 }  // namespace
 
+StressUpdateView Solver::stress_view() {
+  return {solid_.Lxx.data(),
+          solid_.Lxy.data(),
+          solid_.Lyx.data(),
+          solid_.Lyy.data(),
+          solid_.porosity.data(),
+          solid_.temperature.data(),
+          solid_.sxx.data(),
+          solid_.syy.data(),
+          solid_.szz.data(),
+          solid_.sxy.data(),
+          threads_,
+          options_.material_conductivity ? point_conductivity_.data() : nullptr,
+          solid_.x.data(),
+          solid_.y.data(),
+          solid_.volume.data()};
+}
+
+bool Solver::materials_in_step_region() const {
+  for (const auto& m : materials_)
+    if (!m->updates_points_independently()) return false;
+  return true;
+}
+
+// The pore pressure needs the volumetric rate of all liquid points first only when it is
+// cell-averaged or its mean removed; otherwise each point uses its own, in the same pass.
+bool Solver::liquid_rate_pass() const {
+  return options_.liquid_volumetric_smoothing || options_.closed_domain ||
+         options_.pressure_relaxation_time > 0.0;
+}
+
+// The liquid points' part of the update, on local pointers with Darcy's β inline (a call or a
+// member access per point makes the compiler reload every array's address).
+struct Solver::LiquidPass {
+  double* rate;
+  const double *n_, *m_, *Lxx, *Lyy, *div_solid, *dx, *dy;
+  double *pressure, *volume, *drag, *x, *y;
+  LiquidPoints& lq;
+  const Solver& solver;
+  double dt, K, inv_K, inv_rho0, gamma_over_k;
+  bool viscous, darcy, move;
+  LiquidPass(Solver& s, bool move_points)
+      : rate(s.volumetric_rate_.data()),
+        n_(s.liquid_.porosity.data()),
+        m_(s.liquid_.mass.data()),
+        Lxx(s.liquid_.Lxx.data()),
+        Lyy(s.liquid_.Lyy.data()),
+        div_solid(s.div_solid_.data()),
+        dx(s.displacement_x_[1].data()),
+        dy(s.displacement_y_[1].data()),
+        pressure(s.liquid_.pressure.data()),
+        volume(s.liquid_.volume.data()),
+        drag(s.liquid_.drag.data()),
+        x(s.liquid_.x.data()),
+        y(s.liquid_.y.data()),
+        lq(s.liquid_),
+        solver(s),
+        dt(s.dt_),
+        K(s.liquid_options_.bulk_modulus),
+        inv_K(1.0 / s.liquid_options_.bulk_modulus),
+        inv_rho0(1.0 / s.liquid_options_.density),
+        gamma_over_k(darcy_gamma_over_k(s.liquid_options_)),
+        viscous(s.liquid_options_.viscosity > 0.0),
+        darcy(s.liquid_options_.drag_law == DragLaw::darcy),
+        move(move_points) {}
+  // Volumetric rate of the mixture seen by the liquid: n tr(D_L) + (1 - n) tr(D_S).
+  void rate_of(long p) const {
+    const double n = n_[p];
+    rate[p] = n * (Lxx[p] + Lyy[p]) + (1.0 - n) * div_solid[p];
+  }
+  // Returns true if the point holds a non-finite value.
+  bool point(long p) const {
+    const double n = n_[p], inv_n = 1.0 / n;
+    const double tr_l = Lxx[p] + Lyy[p];
+    // Storage equation of the double-point formulation (incompressible grains):
+    //   dp = -(K_w / n) [ n tr(D_L) + (1 - n) tr(D_S) ] dt
+    const double p_new = pressure[p] - dt * (K * inv_n) * rate[p];
+    pressure[p] = p_new;
+    // Mixture volume the point stands for: V = m / (n ρ_w), ρ_w = ρ_w0 exp(p / K_w).
+    volume[p] = liquid_point_volume(m_[p], inv_n, inv_rho0, p_new, inv_K);
+    if (viscous) {
+      const double eta = solver.viscosity_at(1.0 - n);
+      const double third = tr_l / 3.0;
+      lq.txx[p] = 2.0 * eta * (Lxx[p] - third);
+      lq.tyy[p] = 2.0 * eta * (Lyy[p] - third);
+      lq.tzz[p] = -2.0 * eta * third;
+      lq.txy[p] = eta * (lq.Lxy[p] + lq.Lyx[p]);
+    }
+    drag[p] = darcy ? darcy_drag(n, gamma_over_k) : solver.drag_at(n, p);
+    const double check = p_new + lq.txy[p] + lq.vx[p] + lq.vy[p] + x[p] + y[p];
+    if (move) {
+      x[p] += dx[p];
+      y[p] += dy[p];
+    }
+    return !std::isfinite(check);
+  }
+};
+
+// Thread t's chunk of the point update: with `materials`, the materials' update_range over the
+// chunk (materials_in_step_region; begin_ranges was called); the solid points' volume and
+// porosity (and, with `move`, positions); the liquid points' storage equation, volume and drag
+// (only their volumetric rate when the rate is cell-averaged or its mean removed). Failures go to
+// slots_[t].bad. Each point reads and writes its own entries only, so the step's parallel region
+// runs this right after the velocity gradients, on the same chunks, without a barrier.
+void Solver::constitutive_points(int t, bool move, bool materials) {
+  const int T = threads_;
+  std::size_t b, e;
+  chunk(solid_.size(), t, T, b, e);
+  if (materials) {
+    const StressUpdateView view = stress_view();
+    for (auto& m : materials_) {
+      const std::size_t mb = std::max(b, m->begin()), me = std::min(e, m->end());
+      if (mb < me) m->update_range(view, dt_, mb, me, t);
+    }
+  }
+  SolidPoints& sp = solid_;
+  ThreadSlot& slot = slots_[t];
+  slot.bad[0] =
+      solid_volume_pass(b, e, dt_, sp.Lxx.data(), sp.Lyy.data(), sp.solid_volume.data(),
+                        sp.volume.data(), sp.porosity.data(), sp.sxx.data(), sp.syy.data(),
+                        sp.sxy.data(), sp.vx.data(), sp.vy.data(), sp.x.data(), sp.y.data(),
+                        move ? displacement_x_[0].data() : nullptr, displacement_y_[0].data());
+  slot.bad[1] = -1;
+  if (liquid_.size() == 0) return;
+  const LiquidPass liquid(*this, move);
+  const bool rate_pass = liquid_rate_pass();
+  chunk(liquid_.size(), t, T, b, e);
+  for (long p = static_cast<long>(b); p < static_cast<long>(e); ++p) {
+    liquid.rate_of(p);
+    if (!rate_pass && liquid.point(p)) slot.bad[1] = p;
+  }
+}
+
 void Solver::constitutive_update(bool move) {
-  const double dt = dt_;
-  // Solid: one call per material over its range, then volume and porosity.
-  StressUpdateView view{solid_.Lxx.data(),
-                        solid_.Lxy.data(),
-                        solid_.Lyx.data(),
-                        solid_.Lyy.data(),
-                        solid_.porosity.data(),
-                        solid_.temperature.data(),
-                        solid_.sxx.data(),
-                        solid_.syy.data(),
-                        solid_.szz.data(),
-                        solid_.sxy.data(),
-                        threads_,
-                        options_.material_conductivity ? point_conductivity_.data() : nullptr,
-                        solid_.x.data(),
-                        solid_.y.data(),
-                        solid_.volume.data()};
+  const StressUpdateView view = stress_view();
   try {
-    for (auto& m : materials_) m->update_stress(view, dt);
+    for (auto& m : materials_) m->update_stress(view, dt_);
   } catch (const core::NumericalFailure& f) {
     if (f.step >= 0) throw;
     // A material does not know the step (step -1): it failed in the one being taken.
     throw core::NumericalFailure(step_ + 1, f.point, f.variable, f.value, f.why);
   }
-  const long ns = static_cast<long>(solid_.size());
-  const long nl = static_cast<long>(liquid_.size());
-  const double K = liquid_options_.bulk_modulus;
-  const double inv_K = 1.0 / K, inv_rho0 = 1.0 / liquid_options_.density;
-  const bool viscous = liquid_options_.viscosity > 0.0;
-  double* rate = volumetric_rate_.data();
-  // The pore pressure needs the volumetric rate of all liquid points first only when it is
-  // cell-averaged or its mean removed; otherwise each point uses its own, in the same pass.
-  const bool rate_pass = options_.liquid_volumetric_smoothing || options_.closed_domain ||
-                         options_.pressure_relaxation_time > 0.0;
-  // Volumetric rate of the mixture seen by the liquid: n tr(D_L) + (1 - n) tr(D_S).
-  auto liquid_rate = [&](long p) {
-    const double n = liquid_.porosity[p];
-    rate[p] = n * (liquid_.Lxx[p] + liquid_.Lyy[p]) + (1.0 - n) * div_solid_[p];
-  };
-  // The arrays as local pointers, and Darcy's β inline: the pass then keeps them in registers
-  // (a call or a member access per point makes the compiler reload every array's address).
-  LiquidPoints& lq = liquid_;
-  const double* const l_n = lq.porosity.data();
-  const double* const l_m = lq.mass.data();
-  const double* const l_Lxx = lq.Lxx.data();
-  const double* const l_Lyy = lq.Lyy.data();
-  double* const l_p = lq.pressure.data();
-  double* const l_V = lq.volume.data();
-  double* const l_drag = lq.drag.data();
-  double* const l_x = lq.x.data();
-  double* const l_y = lq.y.data();
-  const double* const l_dx = displacement_x_[1].data();
-  const double* const l_dy = displacement_y_[1].data();
-  const bool darcy = liquid_options_.drag_law == DragLaw::darcy;
-  const double gamma_over_k = darcy_gamma_over_k(liquid_options_);
-  auto liquid_point = [&](long p) {
-    const double n = l_n[p], inv_n = 1.0 / n;
-    const double tr_l = l_Lxx[p] + l_Lyy[p];
-    // Storage equation of the double-point formulation (incompressible grains):
-    //   dp = -(K_w / n) [ n tr(D_L) + (1 - n) tr(D_S) ] dt
-    const double pressure = l_p[p] - dt * (K * inv_n) * rate[p];
-    l_p[p] = pressure;
-    // Mixture volume the point stands for: V = m / (n ρ_w), ρ_w = ρ_w0 exp(p / K_w).
-    l_V[p] = liquid_point_volume(l_m[p], inv_n, inv_rho0, pressure, inv_K);
-    if (viscous) {
-      const double eta = viscosity_at(1.0 - n);
-      const double third = tr_l / 3.0;
-      lq.txx[p] = 2.0 * eta * (l_Lxx[p] - third);
-      lq.tyy[p] = 2.0 * eta * (l_Lyy[p] - third);
-      lq.tzz[p] = -2.0 * eta * third;
-      lq.txy[p] = eta * (lq.Lxy[p] + lq.Lyx[p]);
-    }
-    l_drag[p] = darcy ? darcy_drag(n, gamma_over_k) : drag_at(n, p);
-    const double check = pressure + lq.txy[p] + lq.vx[p] + lq.vy[p] + l_x[p] + l_y[p];
-    if (move) {
-      l_x[p] += l_dx[p];
-      l_y[p] += l_dy[p];
-    }
-    return !std::isfinite(check);
-  };
-  long bad_solid = -1, bad_liquid = -1;
-  // One parallel region for both phases (no barrier between the loops: they share nothing).
-#pragma omp parallel num_threads(threads_) if (threads_ > 1) reduction(max : bad_solid, bad_liquid)
-  {
-    std::size_t b, e;
-    chunk(static_cast<std::size_t>(ns), omp_get_thread_num(), omp_get_num_threads(), b, e);
-    const SolidPoints& sp = solid_;
-    bad_solid = std::max(
-        bad_solid, solid_volume_pass(
-                       b, e, dt, sp.Lxx.data(), sp.Lyy.data(), sp.solid_volume.data(),
-                       solid_.volume.data(), solid_.porosity.data(), sp.sxx.data(), sp.syy.data(),
-                       sp.sxy.data(), sp.vx.data(), sp.vy.data(), solid_.x.data(), solid_.y.data(),
-                       move ? displacement_x_[0].data() : nullptr, displacement_y_[0].data()));
-#pragma omp for schedule(static) nowait
-    for (long p = 0; p < nl; ++p) {
-      liquid_rate(p);
-      if (!rate_pass && liquid_point(p)) bad_liquid = std::max(bad_liquid, p);
+  if (threads_ == 1) {
+    constitutive_points(0, move, false);
+  } else {
+#pragma omp parallel num_threads(threads_)
+    constitutive_points(omp_get_thread_num(), move, false);
+  }
+  finish_constitutive(move, false);
+}
+
+// After constitutive_points on every thread: the materials' finish_ranges (with `materials`),
+// the cell-averaged rate, closed-domain mean and pressure relaxation of the liquid, and the
+// failure checks.
+void Solver::finish_constitutive(bool move, bool materials) {
+  if (materials) {
+    const StressUpdateView view = stress_view();
+    try {
+      for (auto& m : materials_) m->finish_ranges(view);
+    } catch (const core::NumericalFailure& f) {
+      if (f.step >= 0) throw;
+      throw core::NumericalFailure(step_ + 1, f.point, f.variable, f.value, f.why);
     }
   }
-  if (nl > 0 && rate_pass) {
+  long bad_solid = -1, bad_liquid = -1;
+  for (const ThreadSlot& slot : slots_) {
+    bad_solid = std::max(bad_solid, slot.bad[0]);
+    bad_liquid = std::max(bad_liquid, slot.bad[1]);
+  }
+  const long nl = static_cast<long>(liquid_.size());
+  double* rate = volumetric_rate_.data();
+  if (nl > 0 && liquid_rate_pass()) {
+    const LiquidPass liquid(*this, move);
     const int nn = nn_;
     if (options_.liquid_volumetric_smoothing) {
       // Cell average of the volumetric rate (volume-weighted over the liquid points of each
@@ -291,7 +363,7 @@ void Solver::constitutive_update(bool move) {
       } else if (!smoothed) {
         smooth(p);
       }
-      if (liquid_point(p)) bad_liquid = std::max(bad_liquid, p);
+      if (liquid.point(p)) bad_liquid = std::max(bad_liquid, p);
     }
     if (options_.liquid_volumetric_smoothing && bad_liquid < 0) cell_constant_pressure();
   }

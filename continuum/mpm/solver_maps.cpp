@@ -37,6 +37,15 @@ void Solver::step_impl(const G& grid) {
   const bool musl = options_.scheme == UpdateScheme::musl;
   const int T = threads_;
   for (auto& slot : slots_) slot.lost[0] = slot.lost[1] = -1;
+  const bool conduct = (options_.temperature_conductivity > 0 || options_.material_conductivity) &&
+                       solid_.size() > 0;
+  // Without conduction (which still needs the start-of-step positions) the points move in the
+  // constitutive pass. Materials whose points update independently are updated in this region,
+  // each thread on the chunk whose velocity gradients it has just computed (no fork/join).
+  const bool move = !conduct;
+  const bool in_region = materials_in_step_region();
+  if (in_region)
+    for (auto& m : materials_) m->begin_ranges(T);
   // The grid part of the step as ONE parallel region: every piece is split among the threads
   // (points in fixed contiguous chunks, nodes in fixed contiguous shares) and the pieces are
   // separated by barriers, instead of a fork/join per loop (each costs a futex wake-up of the
@@ -61,16 +70,18 @@ void Solver::step_impl(const G& grid) {
 #pragma omp barrier
     }
     update_points_part<G, S>(grid, t, musl);
-    if (!musl) return;
-    if (T > 1) {
+    if (musl) {
+      if (T > 1) {
 #pragma omp barrier
-    }
-    reduce_part(wet ? 6 : 3, t);
-    remap_nodes(b, e);
-    if (T > 1) {
+      }
+      reduce_part(wet ? 6 : 3, t);
+      remap_nodes(b, e);
+      if (T > 1) {
 #pragma omp barrier
+      }
+      velocity_gradients_part<G, S>(grid, t, wet);
     }
-    velocity_gradients_part<G, S>(grid, t, wet);
+    if (in_region) constitutive_points(t, move, true);
   };
   if (T == 1) {
     grid_part(0);
@@ -80,11 +91,10 @@ void Solver::step_impl(const G& grid) {
   }
   throw_if_lost();
   cache_[0].valid = cache_[1].valid = true;
-  const bool conduct = (options_.temperature_conductivity > 0 || options_.material_conductivity) &&
-                       solid_.size() > 0;
-  // Without conduction (which still needs the start-of-step positions) the points move in the
-  // constitutive pass.
-  constitutive_update(!conduct);
+  if (in_region)
+    finish_constitutive(move, true);
+  else
+    constitutive_update(move);
   if (conduct) {
     conduct_temperature<G, S>(grid);
     move_points();

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include "continuum/mpm/linear_elastic.hpp"
 #include "continuum/mpm/material_registry.hpp"
@@ -97,4 +98,48 @@ TEST(MpmMaterials, CaseSelectsTheMaterialByNameAndItReadsItsOwnKeys) {
   core::Schema bad = core::kind_header("mpm", "material_test", "a typo in a default");
   EXPECT_THROW(r.declare(bad.section("solid", "solid points"), {{"young_modulu", "1"}}),
                std::logic_error);
+}
+
+// The solver updates an independent material from inside its parallel region, each thread over
+// its part of the points (update_range); the parts must give the whole update bit for bit.
+TEST(MpmMaterials, LinearElasticRangesEqualTheWholeUpdateBitForBit) {
+  const std::size_t n = 7;
+  std::vector<double> L[4], s[2][4], porosity(n, 0.4), T(n, 0.0);
+  for (auto& l : L) l.resize(n);
+  for (std::size_t p = 0; p < n; ++p) {
+    L[0][p] = 1e-3 * std::sin(1.0 + p);
+    L[1][p] = 2e-3 * std::cos(2.0 * p);
+    L[2][p] = -1e-3 * std::sin(0.5 * p);
+    L[3][p] = 5e-4 * (p % 3);
+  }
+  for (auto& copy : s)
+    for (int c = 0; c < 4; ++c) copy[c].assign(n, -1e3 * (c + 1));
+  auto view = [&](int k) {
+    return StressUpdateView{L[0].data(),
+                            L[1].data(),
+                            L[2].data(),
+                            L[3].data(),
+                            porosity.data(),
+                            T.data(),
+                            s[k][0].data(),
+                            s[k][1].data(),
+                            s[k][2].data(),
+                            s[k][3].data(),
+                            1};
+  };
+  LinearElastic whole(1e7, 0.3, 2650), parts(1e7, 0.3, 2650);
+  whole.attach(0, n);
+  parts.attach(0, n);
+  ASSERT_TRUE(parts.updates_points_independently());
+  for (int step = 0; step < 20; ++step) {
+    whole.update_stress(view(0), 1e-2);
+    parts.begin_ranges(3);
+    parts.update_range(view(1), 1e-2, 5, 7, 2);  // any order: the parts are independent
+    parts.update_range(view(1), 1e-2, 0, 2, 0);
+    parts.update_range(view(1), 1e-2, 2, 5, 1);
+    parts.finish_ranges(view(1));
+  }
+  for (int c = 0; c < 4; ++c)
+    for (std::size_t p = 0; p < n; ++p) EXPECT_EQ(s[0][c][p], s[1][c][p]) << c << " " << p;
+  EXPECT_NE(s[0][3][1], -4e3);  // the stress moved (the test cannot pass on an idle update)
 }

@@ -6,10 +6,13 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
+#include <vector>
 
 #include "continuum/mpm/checkpoint.hpp"
 #include "continuum/mpm/multi_regime_material.hpp"
 #include "continuum/mpm/rheometer.hpp"
+#include "core/numerical_failure.hpp"
 #include "tests/mpm_rheometer/section4_settings.hpp"
 
 using namespace granflow;
@@ -183,4 +186,75 @@ TEST(MpmRheometerMaterial, PlaneUpdateEqualsTheThreeByThreeUpdate) {
     // the plane update meet the 3 × 3 one
     EXPECT_TRUE(crossed) << start.effective_pressure << (start.fluidized ? " fluidized" : "");
   }
+}
+
+// The solver updates the local multi-regime material from inside its parallel region, each
+// thread over its part of the points (update_range), and combines the threads' results once
+// (finish_ranges): the parts give the whole update bit for bit (stress, T, r_c, the largest σ_FC
+// behind the CFL modulus); a failed point is reported by finish_ranges, not thrown from a thread;
+// the non-local material (ℓ > 0) averages over neighbours and is never updated in parts.
+TEST(MpmRheometerMaterial, RangesEqualTheWholeUpdateBitForBit) {
+  const auto settings = section4_settings();
+  const mpm::MultiRegimeInitialState init{50e3, 1.0, 0.0};
+  mpm::MultiRegimeMaterial whole(settings, init), parts(settings, init);
+  const std::size_t n = 5;
+  mpm::SolidPoints a, b;
+  for (auto* sp : {&a, &b}) {
+    sp->resize(n);
+    for (std::size_t p = 0; p < n; ++p) sp->porosity[p] = 0.818 / 1.818;
+  }
+  whole.attach(0, n);
+  parts.attach(0, n);
+  whole.initialize(a);
+  parts.initialize(b);
+  ASSERT_TRUE(parts.updates_points_independently());
+  std::vector<double> Lxx(n), Lyy(n), Lxy(n), Lyx(n);
+  for (std::size_t p = 0; p < n; ++p) {  // shear at 1-300 1/s with some compaction and spin
+    Lxy[p] = 0.5 * std::pow(4.0, static_cast<double>(p)) + 0.1;
+    Lyx[p] = Lxy[p] - 0.2;
+    Lxx[p] = -0.01 * static_cast<double>(p);
+    Lyy[p] = 0.0;
+  }
+  auto view = [&](mpm::SolidPoints& sp) {
+    return mpm::StressUpdateView{Lxx.data(),
+                                 Lxy.data(),
+                                 Lyx.data(),
+                                 Lyy.data(),
+                                 sp.porosity.data(),
+                                 sp.temperature.data(),
+                                 sp.sxx.data(),
+                                 sp.syy.data(),
+                                 sp.szz.data(),
+                                 sp.sxy.data(),
+                                 1};
+  };
+  for (int step = 0; step < 100; ++step) {
+    whole.update_stress(view(a), 1e-4);
+    parts.begin_ranges(2);
+    parts.update_range(view(b), 1e-4, 3, 5, 1);
+    parts.update_range(view(b), 1e-4, 0, 3, 0);
+    parts.finish_ranges(view(b));
+  }
+  for (std::size_t p = 0; p < n; ++p) {
+    EXPECT_EQ(a.sxx[p], b.sxx[p]) << p;
+    EXPECT_EQ(a.sxy[p], b.sxy[p]) << p;
+    EXPECT_EQ(a.szz[p], b.szz[p]) << p;
+    EXPECT_EQ(a.temperature[p], b.temperature[p]) << p;
+    EXPECT_EQ(whole.locus_size()[p], parts.locus_size()[p]) << p;
+  }
+  EXPECT_EQ(whole.p_wave_modulus(), parts.p_wave_modulus());
+  EXPECT_GT(std::fabs(a.sxy[0]), 100.0);  // sheared: not an idle update
+  // A non-finite rate at point 3: update_range records it, finish_ranges throws.
+  Lxy[3] = std::numeric_limits<double>::quiet_NaN();
+  parts.begin_ranges(2);
+  EXPECT_NO_THROW(parts.update_range(view(b), 1e-4, 3, 5, 1));
+  EXPECT_NO_THROW(parts.update_range(view(b), 1e-4, 0, 3, 0));
+  try {
+    parts.finish_ranges(view(b));
+    ADD_FAILURE() << "no failure reported";
+  } catch (const granflow::core::NumericalFailure& f) {
+    EXPECT_EQ(f.point, "solid point 3");
+  }
+  parts.set_internal_length(0.01);
+  EXPECT_FALSE(parts.updates_points_independently());
 }
