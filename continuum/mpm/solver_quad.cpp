@@ -3,12 +3,13 @@
 // nodes, on the Cartesian grid (a, a+1) and (a + nx + 1, a + nx + 2), on the polar grid (i, j),
 // (i+1, j) and (i, j+1), (i+1, j+1) (QuadStencil). A row's shape values are one 2-vector
 // (Eigen::Array2d), so a nodal field of a row is read or updated with one packed operation. On
-// the Cartesian grid the points are located once per step in a loop the compiler vectorises, and
-// the values are those of CartesianGrid::stencil with the sums in its node order, operation for
-// operation, so the results equal the general maps' bit for bit (docs/mpm.md,
-// docs/performance.md). On the polar grid the stencils of PolarGrid::quad are cached for the step;
-// the sums run row by row (nodes (i,j), (i+1,j), (i,j+1), (i+1,j+1)), which changes round-off
-// only against the general maps' order.
+// the Cartesian grid the points are located once per step in a loop the compiler vectorises
+// (with 1/h for the division of CartesianGrid::stencil: ξ, η differ from its by an ulp), and the
+// sums run in its node order (docs/mpm.md, docs/performance.md). On the polar grid the stencils
+// of PolarGrid::quad are cached for the step; the sums run row by row (nodes (i,j), (i+1,j),
+// (i,j+1), (i+1,j+1)), which changes round-off only against the general maps' order. With more
+// than one thread, a point whose nodes lie in the thread's own node share is added straight into
+// the reduced accumulator (OwnedNodes; Solver::scatter_buffer).
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
