@@ -275,6 +275,77 @@ void Solver::constitutive_points(int t, bool move, bool materials) {
   }
 }
 
+// The cell-averaged rate and the cell-constant pressure of the liquid (the cell sums below) for
+// thread t's chunk inside the step's parallel region, when the rate is only cell-averaged
+// (liquid_smoothing_in_region): after constitutive_points has stored every point's own rate.
+// The cell sums, keyed by the cell's first node, are added by the owner of that node straight
+// into acc_ and by the other threads into their buffers, then reduced (as the grid maps); the
+// barriers separate the sums from their reads. On one thread the operations are those of
+// finish_constitutive's pass, in the same order.
+void Solver::liquid_smoothing_part(int t, bool move) {
+  const int nn = nn_, T = threads_;
+  std::size_t b, e;
+  chunk(liquid_.size(), t, T, b, e);
+  int nb, ne;
+  node_share(nn, t, T, nb, ne);
+  const int* cell = liquid_cell_.data();
+  double* rate = volumetric_rate_.data();
+  LiquidPoints& lq = liquid_;
+  // acc_[c] = Σ V value, acc_[nn + c] = Σ V over the liquid points of cell c
+  auto cell_sums = [&](const double* value) {
+    double* const mine = scatter_buffer(t, 2);
+    double* const direct = acc_.data();
+    int lo = nn, hi = 0;
+    for (std::size_t p = b; p < e; ++p) {
+      const int c = cell[p];
+      const bool own = c >= nb && c < ne;
+      if (!own) {
+        lo = std::min(lo, c);
+        hi = std::max(hi, c + 1);
+      }
+      double* const acc = own ? direct : mine;
+      acc[c] += lq.volume[p] * value[p];
+      acc[nn + c] += lq.volume[p];
+    }
+    mark_dirty(t, 2, lo, hi);
+    if (T > 1) {
+#pragma omp barrier
+    }
+    reduce_part(2, t);
+    if (T > 1) {
+#pragma omp barrier
+    }
+  };
+  // Cell average of the volumetric rate (Anura3D's strain smoothing; Mast et al. 2012), then the
+  // storage equation with it.
+  cell_sums(rate);
+  const LiquidPass liquid(*this, move);
+  long bad = -1;
+  for (std::size_t p = b; p < e; ++p) {
+    rate[p] = acc_[cell[p]] / acc_[nn + cell[p]];
+    if (liquid.point(static_cast<long>(p))) bad = static_cast<long>(p);
+  }
+  slots_[t].bad[1] = bad;
+  if (T > 1) {  // every thread has read the rate sums before they are cleared
+#pragma omp barrier
+  }
+  // The cell-constant pressure (cell_constant_pressure): each point takes its cell's
+  // volume-weighted mean p, and its volume with it.
+  cell_sums(lq.pressure.data());
+  const double inv_K = 1.0 / liquid_options_.bulk_modulus;
+  const double inv_rho0 = 1.0 / liquid_options_.density;
+  for (std::size_t p = b; p < e; ++p) {
+    lq.pressure[p] = acc_[cell[p]] / acc_[nn + cell[p]];
+    lq.volume[p] = liquid_point_volume(lq.mass[p], 1.0 / lq.porosity[p], inv_rho0, lq.pressure[p],
+                                       inv_K);
+  }
+}
+
+bool Solver::liquid_smoothing_in_region() const {
+  return liquid_.size() > 0 && options_.liquid_volumetric_smoothing && !options_.closed_domain &&
+         !(options_.pressure_relaxation_time > 0.0);
+}
+
 void Solver::constitutive_update(bool move) {
   const StressUpdateView view = stress_view();
   try {
@@ -290,13 +361,13 @@ void Solver::constitutive_update(bool move) {
 #pragma omp parallel num_threads(threads_)
     constitutive_points(omp_get_thread_num(), move, false);
   }
-  finish_constitutive(move, false);
+  finish_constitutive(move, false, false);
 }
 
 // After constitutive_points on every thread: the materials' finish_ranges (with `materials`),
-// the cell-averaged rate, closed-domain mean and pressure relaxation of the liquid, and the
-// failure checks.
-void Solver::finish_constitutive(bool move, bool materials) {
+// the cell-averaged rate, closed-domain mean and pressure relaxation of the liquid (unless
+// liquid_smoothing_part did them: `smoothed_in_region`), and the failure checks.
+void Solver::finish_constitutive(bool move, bool materials, bool smoothed_in_region) {
   if (materials) {
     const StressUpdateView view = stress_view();
     try {
@@ -313,7 +384,7 @@ void Solver::finish_constitutive(bool move, bool materials) {
   }
   const long nl = static_cast<long>(liquid_.size());
   double* rate = volumetric_rate_.data();
-  if (nl > 0 && liquid_rate_pass()) {
+  if (nl > 0 && liquid_rate_pass() && !smoothed_in_region) {
     const LiquidPass liquid(*this, move);
     const int nn = nn_;
     if (options_.liquid_volumetric_smoothing) {

@@ -44,6 +44,7 @@ void Solver::step_impl(const G& grid) {
   // each thread on the chunk whose velocity gradients it has just computed (no fork/join).
   const bool move = !conduct;
   const bool in_region = materials_in_step_region();
+  const bool smoothing_in_region = in_region && liquid_smoothing_in_region();
   if (in_region)
     for (auto& m : materials_) m->begin_ranges(T);
   // The grid part of the step as ONE parallel region: every piece is split among the threads
@@ -82,6 +83,7 @@ void Solver::step_impl(const G& grid) {
       velocity_gradients_part<G, S>(grid, t, wet);
     }
     if (in_region) constitutive_points(t, move, true);
+    if (smoothing_in_region) liquid_smoothing_part(t, move);
   };
   if (T == 1) {
     grid_part(0);
@@ -92,7 +94,7 @@ void Solver::step_impl(const G& grid) {
   throw_if_lost();
   cache_[0].valid = cache_[1].valid = true;
   if (in_region)
-    finish_constitutive(move, true);
+    finish_constitutive(move, true, smoothing_in_region);
   else
     constitutive_update(move);
   if (conduct) {
