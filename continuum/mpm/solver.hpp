@@ -193,6 +193,9 @@ class Solver {
   struct LiquidPass;
   template <class G, ShapeKind S>
   void conduct_temperature(const G& grid);
+  template <class G, ShapeKind S>
+  long conduct_part(const G& grid, int t);
+  void throw_if_negative_temperature(long negative) const;
   // Scatter with per-thread node buffers in its own parallel region (conduction, the cell-averaged
   // rate, the pressure relaxation, the cell-constant pressure).
   template <class Body>
@@ -239,6 +242,7 @@ class Solver {
   template <class PointValue>
   std::pair<double, double> liquid_volume_sums(PointValue&& value);
   void move_points();                      // x += Δx of the step, at its end
+  void move_points_part(int t);            // the same for thread t's chunks
   void throw_if_lost() const;              // a point that the last map found outside the grid
   double viscosity_at(double nu) const;    // η(ν)
   double drag_at(double n, long p) const;  // β(n) of liquid point p (and |u_L - u_S| if Ergun)
@@ -298,6 +302,7 @@ class Solver {
     int dirty_fields = 0, dirty_begin = 0, dirty_end = 0, dirty_wrap_end = 0;
     long lost[2] = {-1, -1};  // first point of its chunk, per phase, found outside the grid
     long bad[2] = {-1, -1};   // last point of its chunk, per phase, with a non-finite value
+    long cold = -1;           // last point of its chunk whose conducted T is negative
     double sum[2] = {0, 0};   // partial sums of a reduction over its chunk
   };
   std::vector<ThreadSlot> slots_;

@@ -84,6 +84,13 @@ void Solver::step_impl(const G& grid) {
     }
     if (in_region) constitutive_points(t, move, true);
     if (smoothing_in_region) liquid_smoothing_part(t, move);
+    if (in_region && conduct) {
+      if (T > 1 && smoothing_in_region) {  // its reads of acc_ are done before conduction clears it
+#pragma omp barrier
+      }
+      slots_[t].cold = conduct_part<G, S>(grid, t);
+      move_points_part(t);
+    }
   };
   if (T == 1) {
     grid_part(0);
@@ -93,13 +100,19 @@ void Solver::step_impl(const G& grid) {
   }
   throw_if_lost();
   cache_[0].valid = cache_[1].valid = true;
-  if (in_region)
+  if (in_region) {
     finish_constitutive(move, true, smoothing_in_region);
-  else
+    if (conduct) {
+      long cold = -1;
+      for (const auto& slot : slots_) cold = std::max(cold, slot.cold);
+      throw_if_negative_temperature(cold);
+    }
+  } else {
     constitutive_update(move);
-  if (conduct) {
-    conduct_temperature<G, S>(grid);
-    move_points();
+    if (conduct) {
+      conduct_temperature<G, S>(grid);
+      move_points();
+    }
   }
   cache_[0].valid = cache_[1].valid = false;  // the points moved: locate again next step
   time_ += dt_;
@@ -352,6 +365,21 @@ void Solver::velocity_gradients(const G& grid, bool liquid_extras) {
     velocity_gradients_part<G, S>(grid, omp_get_thread_num(), liquid_extras);
   }
   cache_[0].valid = cache_[1].valid = true;
+}
+
+void Solver::move_points_part(int t) {
+  for (int phase = 0; phase < 2; ++phase) {
+    PointFields& pts =
+        phase == 0 ? static_cast<PointFields&>(solid_) : static_cast<PointFields&>(liquid_);
+    std::size_t b, e;
+    chunk(pts.size(), t, threads_, b, e);
+    const double* dx = displacement_x_[phase].data();
+    const double* dy = displacement_y_[phase].data();
+    for (std::size_t p = b; p < e; ++p) {
+      pts.x[p] += dx[p];
+      pts.y[p] += dy[p];
+    }
+  }
 }
 
 void Solver::move_points() {
