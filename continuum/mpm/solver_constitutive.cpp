@@ -275,9 +275,10 @@ void Solver::constitutive_points(int t, bool move, bool materials) {
   }
 }
 
-// The cell-averaged rate and the cell-constant pressure of the liquid (the cell sums below) for
-// thread t's chunk inside the step's parallel region, when the rate is only cell-averaged
-// (liquid_smoothing_in_region): after constitutive_points has stored every point's own rate.
+// The cell-averaged rate (less its volume-weighted mean in a closed domain) and the cell-constant
+// pressure of the liquid for thread t's chunk inside the step's parallel region, when no pressure
+// relaxation is asked for (liquid_smoothing_in_region): after constitutive_points has stored
+// every point's own rate.
 // The cell sums, keyed by the cell's first node, are added by the owner of that node straight
 // into acc_ and by the other threads into their buffers, then reduced (as the grid maps); the
 // barriers separate the sums from their reads. On one thread the operations are those of
@@ -319,10 +320,35 @@ void Solver::liquid_smoothing_part(int t, bool move) {
   // Cell average of the volumetric rate (Anura3D's strain smoothing; Mast et al. 2012), then the
   // storage equation with it.
   cell_sums(rate);
+  double mean_rate = 0.0;
+  if (options_.closed_domain) {
+    // Volume-weighted mean of the smoothed rate, removed (liquid_volume_sums: per thread over its
+    // chunk, then the threads' sums in thread order, which every thread forms alike).
+    double weighted = 0.0, volume = 0.0;
+    for (std::size_t p = b; p < e; ++p) {
+      rate[p] = acc_[cell[p]] / acc_[nn + cell[p]];
+      weighted += lq.volume[p] * rate[p];
+      volume += lq.volume[p];
+    }
+    slots_[t].sum[0] = weighted;
+    slots_[t].sum[1] = volume;
+    if (T > 1) {
+#pragma omp barrier
+    }
+    weighted = volume = 0.0;
+    for (const auto& slot : slots_) {
+      weighted += slot.sum[0];
+      volume += slot.sum[1];
+    }
+    mean_rate = weighted / volume;
+  }
   const LiquidPass liquid(*this, move);
   long bad = -1;
   for (std::size_t p = b; p < e; ++p) {
-    rate[p] = acc_[cell[p]] / acc_[nn + cell[p]];
+    if (options_.closed_domain)
+      rate[p] -= mean_rate;
+    else
+      rate[p] = acc_[cell[p]] / acc_[nn + cell[p]];
     if (liquid.point(static_cast<long>(p))) bad = static_cast<long>(p);
   }
   slots_[t].bad[1] = bad;
@@ -336,13 +362,13 @@ void Solver::liquid_smoothing_part(int t, bool move) {
   const double inv_rho0 = 1.0 / liquid_options_.density;
   for (std::size_t p = b; p < e; ++p) {
     lq.pressure[p] = acc_[cell[p]] / acc_[nn + cell[p]];
-    lq.volume[p] = liquid_point_volume(lq.mass[p], 1.0 / lq.porosity[p], inv_rho0, lq.pressure[p],
-                                       inv_K);
+    lq.volume[p] =
+        liquid_point_volume(lq.mass[p], 1.0 / lq.porosity[p], inv_rho0, lq.pressure[p], inv_K);
   }
 }
 
 bool Solver::liquid_smoothing_in_region() const {
-  return liquid_.size() > 0 && options_.liquid_volumetric_smoothing && !options_.closed_domain &&
+  return liquid_.size() > 0 && options_.liquid_volumetric_smoothing &&
          !(options_.pressure_relaxation_time > 0.0);
 }
 

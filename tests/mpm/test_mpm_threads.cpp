@@ -119,6 +119,17 @@ std::vector<Problem> problems() {
                     return make_couette(c);
                   },
                   40, true});
+  list.push_back({"Couette on the polar grid, smoothing in a closed domain (the mean rate removed)",
+                  [](int threads) {
+                    CouetteSpec c;
+                    c.cells_r = 5;
+                    c.cells_theta = 32;
+                    c.options.threads = threads;
+                    c.options.liquid_volumetric_smoothing = true;
+                    c.options.closed_domain = true;
+                    return make_couette(c);
+                  },
+                  40, true});
   return list;
 }
 
