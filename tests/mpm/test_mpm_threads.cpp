@@ -109,27 +109,21 @@ std::vector<Problem> problems() {
                                  [](SolverOptions& o) { o.temperature_conductivity = 5.0; });
                   },
                   30});
-  list.push_back({"Couette on the polar grid (cached stencils, smoothing)",
-                  [](int threads) {
-                    CouetteSpec c;
-                    c.cells_r = 5;
-                    c.cells_theta = 32;
-                    c.options.threads = threads;
-                    c.options.liquid_volumetric_smoothing = true;
-                    return make_couette(c);
-                  },
-                  40, true});
+  auto couette = [](bool closed_domain) {
+    return [closed_domain](int threads) {
+      CouetteSpec c;
+      c.cells_r = 5;
+      c.cells_theta = 32;
+      c.options.threads = threads;
+      c.options.liquid_volumetric_smoothing = true;
+      c.options.closed_domain = closed_domain;
+      return make_couette(c);
+    };
+  };
+  list.push_back(
+      {"Couette on the polar grid (cached stencils, smoothing)", couette(false), 40, true});
   list.push_back({"Couette on the polar grid, smoothing in a closed domain (the mean rate removed)",
-                  [](int threads) {
-                    CouetteSpec c;
-                    c.cells_r = 5;
-                    c.cells_theta = 32;
-                    c.options.threads = threads;
-                    c.options.liquid_volumetric_smoothing = true;
-                    c.options.closed_domain = true;
-                    return make_couette(c);
-                  },
-                  40, true});
+                  couette(true), 40, true});
   return list;
 }
 

@@ -19,6 +19,24 @@ using namespace granflow;
 
 namespace {
 using granflow::testing::section4_settings;
+
+// The stress-update view of the solid points sp under the velocity gradient L, one thread.
+mpm::StressUpdateView view_of(mpm::SolidPoints& sp, std::vector<double>& Lxx,
+                              std::vector<double>& Lxy, std::vector<double>& Lyx,
+                              std::vector<double>& Lyy, double* conductivity = nullptr) {
+  return {Lxx.data(),
+          Lxy.data(),
+          Lyx.data(),
+          Lyy.data(),
+          sp.porosity.data(),
+          sp.temperature.data(),
+          sp.sxx.data(),
+          sp.syy.data(),
+          sp.szz.data(),
+          sp.sxy.data(),
+          1,
+          conductivity};
+}
 }  // namespace
 
 TEST(MpmRheometerMaterial, BatchUpdateEqualsThePointModel) {
@@ -46,18 +64,7 @@ TEST(MpmRheometerMaterial, BatchUpdateEqualsThePointModel) {
   continuum::StressParts parts[n];
   std::vector<double> conductivity(n, -1.0);
   for (int step = 0; step < 200; ++step) {
-    mpm::StressUpdateView v{Lxx.data(),
-                            Lxy.data(),
-                            Lyx.data(),
-                            Lyy.data(),
-                            sp.porosity.data(),
-                            sp.temperature.data(),
-                            sp.sxx.data(),
-                            sp.syy.data(),
-                            sp.szz.data(),
-                            sp.sxy.data(),
-                            1,
-                            conductivity.data()};
+    const mpm::StressUpdateView v = view_of(sp, Lxx, Lxy, Lyx, Lyy, conductivity.data());
     m.update_stress(v, dt);
     for (std::size_t p = 0; p < n; ++p) {
       Eigen::Matrix3d rate = Eigen::Matrix3d::Zero();  // compression positive: -D
@@ -215,19 +222,7 @@ TEST(MpmRheometerMaterial, RangesEqualTheWholeUpdateBitForBit) {
     Lxx[p] = -0.01 * static_cast<double>(p);
     Lyy[p] = 0.0;
   }
-  auto view = [&](mpm::SolidPoints& sp) {
-    return mpm::StressUpdateView{Lxx.data(),
-                                 Lxy.data(),
-                                 Lyx.data(),
-                                 Lyy.data(),
-                                 sp.porosity.data(),
-                                 sp.temperature.data(),
-                                 sp.sxx.data(),
-                                 sp.syy.data(),
-                                 sp.szz.data(),
-                                 sp.sxy.data(),
-                                 1};
-  };
+  auto view = [&](mpm::SolidPoints& sp) { return view_of(sp, Lxx, Lxy, Lyx, Lyy); };
   for (int step = 0; step < 100; ++step) {
     whole.update_stress(view(a), 1e-4);
     parts.begin_ranges(2);
