@@ -102,17 +102,17 @@ inline SolidLoad solid_load(const SolidPoints& sp, std::size_t p, double s, doub
           sp.syy[p] * V,
           sp.sxy[p] * V};
 }
+// The solid loads into the accumulator acc (field-major, nn nodes per field: MS, PXS, ...).
 template <class Value, class At>
 inline void scatter_solid(const SolidLoad& L, const Value& N, const Value& dx, const Value& dy,
-                          double* ms, double* pxs, double* pys, double* fxs, double* fys,
-                          double* nms, At at) {
-  at(ms) += N * L.mi;
-  at(pxs) += N * L.mvx;
-  at(pys) += N * L.mvy;
+                          double* acc, int nn, At at) {
+  at(acc + MS * nn) += N * L.mi;
+  at(acc + PXS * nn) += N * L.mvx;
+  at(acc + PYS * nn) += N * L.mvy;
   // f_int = -∫ ∇N · σ' dV ; f_ext = N (m g + point load)
-  at(fxs) += N * L.fx - (dx * L.sxx + dy * L.sxy);
-  at(fys) += N * L.fy - (dx * L.sxy + dy * L.syy);
-  at(nms) += N * L.mn;
+  at(acc + FXS * nn) += N * L.fx - (dx * L.sxx + dy * L.sxy);
+  at(acc + FYS * nn) += N * L.fy - (dx * L.sxy + dy * L.syy);
+  at(acc + NMS * nn) += N * L.mn;
 }
 struct LiquidLoad {
   double mi, mvx, mvy, fx, fy, sxx, syy, sxy, beta_V;
@@ -132,18 +132,18 @@ inline LiquidLoad liquid_load(const LiquidPoints& lp, std::size_t p, double s, d
           lp.txy[p] * V,
           lp.drag[p] * V};
 }
+// The liquid loads into the accumulator acc (ML, PXL, ... fields).
 template <class Value, class At>
 inline void scatter_liquid(const LiquidLoad& L, const Value& N, const Value& dx, const Value& dy,
-                           double* ml, double* pxl, double* pyl, double* fxl, double* fyl,
-                           double* glx, double* gly, double* cd, At at) {
-  at(ml) += N * L.mi;
-  at(pxl) += N * L.mvx;
-  at(pyl) += N * L.mvy;
-  at(fxl) += N * L.fx;
-  at(fyl) += N * L.fy;
-  at(glx) -= dx * L.sxx + dy * L.sxy;
-  at(gly) -= dx * L.sxy + dy * L.syy;
-  at(cd) += N * L.beta_V;
+                           double* acc, int nn, At at) {
+  at(acc + ML * nn) += N * L.mi;
+  at(acc + PXL * nn) += N * L.mvx;
+  at(acc + PYL * nn) += N * L.mvy;
+  at(acc + FXL * nn) += N * L.fx;
+  at(acc + FYL * nn) += N * L.fy;
+  at(acc + GLX * nn) -= dx * L.sxx + dy * L.sxy;
+  at(acc + GLY * nn) -= dx * L.sxy + dy * L.syy;
+  at(acc + CD * nn) += N * L.beta_V;
 }
 
 }  // namespace granflow::mpm::solver_internal

@@ -133,12 +133,6 @@ void Solver::map_first_part(const G& grid, int t) {
   double* acc = scatter_buffer(t, fields);
   NodeSpan span;
   long* lost = slots_[t].lost;
-  double* ms = acc + MS * nn;
-  double* pxs = acc + PXS * nn;
-  double* pys = acc + PYS * nn;
-  double* fxs = acc + FXS * nn;
-  double* fys = acc + FYS * nn;
-  double* nms = acc + NMS * nn;
   std::size_t b, e;
   chunk(solid_.size(), t, T, b, e);
   const SolidPoints& sp = solid_;
@@ -152,19 +146,11 @@ void Solver::map_first_part(const G& grid, int t) {
     const SolidLoad load = solid_load(sp, p, s, gx, gy);
     for (int k = 0; k < st.count; ++k) {
       const int a = st.node[k];
-      scatter_solid(load, st.N[k], st.dNdx[k], st.dNdy[k], ms, pxs, pys, fxs, fys, nms,
+      scatter_solid(load, st.N[k], st.dNdx[k], st.dNdy[k], acc, nn,
                     [a](double* f) -> double& { return f[a]; });
     }
   }
   if (wet) {
-    double* ml = acc + ML * nn;
-    double* pxl = acc + PXL * nn;
-    double* pyl = acc + PYL * nn;
-    double* fxl = acc + FXL * nn;
-    double* fyl = acc + FYL * nn;
-    double* glx = acc + GLX * nn;
-    double* gly = acc + GLY * nn;
-    double* cd = acc + CD * nn;
     const LiquidPoints& lp = liquid_;
     chunk(lp.size(), t, T, b, e);
     for (std::size_t p = b; p < e; ++p) {
@@ -176,7 +162,7 @@ void Solver::map_first_part(const G& grid, int t) {
       const LiquidLoad load = liquid_load(lp, p, s, gx, gy);
       for (int k = 0; k < st.count; ++k) {
         const int a = st.node[k];
-        scatter_liquid(load, st.N[k], st.dNdx[k], st.dNdy[k], ml, pxl, pyl, fxl, fyl, glx, gly, cd,
+        scatter_liquid(load, st.N[k], st.dNdx[k], st.dNdy[k], acc, nn,
                        [a](double* f) -> double& { return f[a]; });
       }
     }

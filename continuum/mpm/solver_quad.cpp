@@ -204,16 +204,10 @@ void Solver::map_first_quad(const G& grid, int t) {
       const bool own = owned.owns(q);
       if (!own) add_span(span, q);
       double* const acc = own ? direct : mine;
-      double* ms = acc + MS * nn;
-      double* pxs = acc + PXS * nn;
-      double* pys = acc + PYS * nn;
-      double* fxs = acc + FXS * nn;
-      double* fys = acc + FYS * nn;
-      double* nms = acc + NMS * nn;
       const SolidLoad load = solid_load(sp, p, s, gx, gy);
       for (int r = 0; r < 2; ++r) {
         const int a = q.node[r];
-        scatter_solid(load, q.N[r], q.dNdx[r], q.dNdy[r], ms, pxs, pys, fxs, fys, nms,
+        scatter_solid(load, q.N[r], q.dNdx[r], q.dNdy[r], acc, nn,
                       [a](double* f) { return Row(f + a); });
       }
     }
@@ -232,18 +226,10 @@ void Solver::map_first_quad(const G& grid, int t) {
       const bool own = owned.owns(q);
       if (!own) add_span(span, q);
       double* const acc = own ? direct : mine;
-      double* ml = acc + ML * nn;
-      double* pxl = acc + PXL * nn;
-      double* pyl = acc + PYL * nn;
-      double* fxl = acc + FXL * nn;
-      double* fyl = acc + FYL * nn;
-      double* glx = acc + GLX * nn;
-      double* gly = acc + GLY * nn;
-      double* cd = acc + CD * nn;
       const LiquidLoad load = liquid_load(lp, p, s, gx, gy);
       for (int r = 0; r < 2; ++r) {
         const int a = q.node[r];
-        scatter_liquid(load, q.N[r], q.dNdx[r], q.dNdy[r], ml, pxl, pyl, fxl, fyl, glx, gly, cd,
+        scatter_liquid(load, q.N[r], q.dNdx[r], q.dNdy[r], acc, nn,
                        [a](double* f) { return Row(f + a); });
       }
     }
