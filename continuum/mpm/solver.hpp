@@ -184,7 +184,7 @@ class Solver {
   // materials_in_step_region), then finish_constitutive.
   void constitutive_update(bool move);
   void constitutive_points(int t, bool move, bool materials);
-  void finish_constitutive(bool move, bool materials, bool smoothed_in_region);
+  void finish_constitutive(bool move, bool materials);
   void liquid_smoothing_part(int t, bool move);
   bool liquid_smoothing_in_region() const;
   StressUpdateView stress_view();

@@ -276,9 +276,9 @@ void Solver::constitutive_points(int t, bool move, bool materials) {
 }
 
 // The cell-averaged rate (less its volume-weighted mean in a closed domain) and the cell-constant
-// pressure of the liquid for thread t's chunk inside the step's parallel region, when no pressure
-// relaxation is asked for (liquid_smoothing_in_region): after constitutive_points has stored
-// every point's own rate.
+// pressure of the liquid for thread t's chunk, inside the parallel region of the step (or of
+// constitutive_update), when no pressure relaxation is asked for (liquid_smoothing_in_region):
+// after constitutive_points has stored every point's own rate.
 // The cell sums, keyed by the cell's first node, are added by the owner of that node straight
 // into acc_ and by the other threads into their buffers, then reduced (as the grid maps); the
 // barriers separate the sums from their reads. On one thread the operations are those of
@@ -381,19 +381,24 @@ void Solver::constitutive_update(bool move) {
     // A material does not know the step (step -1): it failed in the one being taken.
     throw core::NumericalFailure(step_ + 1, f.point, f.variable, f.value, f.why);
   }
+  const bool smoothing = liquid_smoothing_in_region();
+  auto part = [&](int t) {
+    constitutive_points(t, move, false);
+    if (smoothing) liquid_smoothing_part(t, move);
+  };
   if (threads_ == 1) {
-    constitutive_points(0, move, false);
+    part(0);
   } else {
 #pragma omp parallel num_threads(threads_)
-    constitutive_points(omp_get_thread_num(), move, false);
+    part(omp_get_thread_num());
   }
-  finish_constitutive(move, false, false);
+  finish_constitutive(move, false);
 }
 
-// After constitutive_points on every thread: the materials' finish_ranges (with `materials`),
-// the cell-averaged rate, closed-domain mean and pressure relaxation of the liquid (unless
-// liquid_smoothing_part did them: `smoothed_in_region`), and the failure checks.
-void Solver::finish_constitutive(bool move, bool materials, bool smoothed_in_region) {
+// After constitutive_points (and liquid_smoothing_part) on every thread: the materials'
+// finish_ranges (with `materials`), the liquid's rate passes that need the pressure relaxation,
+// and the failure checks.
+void Solver::finish_constitutive(bool move, bool materials) {
   if (materials) {
     const StressUpdateView view = stress_view();
     try {
@@ -410,7 +415,7 @@ void Solver::finish_constitutive(bool move, bool materials, bool smoothed_in_reg
   }
   const long nl = static_cast<long>(liquid_.size());
   double* rate = volumetric_rate_.data();
-  if (nl > 0 && liquid_rate_pass() && !smoothed_in_region) {
+  if (nl > 0 && liquid_rate_pass() && !liquid_smoothing_in_region()) {
     const LiquidPass liquid(*this, move);
     const int nn = nn_;
     if (options_.liquid_volumetric_smoothing) {

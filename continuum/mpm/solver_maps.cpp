@@ -101,7 +101,7 @@ void Solver::step_impl(const G& grid) {
   throw_if_lost();
   cache_[0].valid = cache_[1].valid = true;
   if (in_region) {
-    finish_constitutive(move, true, smoothing_in_region);
+    finish_constitutive(move, true);
     if (conduct) {
       long cold = -1;
       for (const auto& slot : slots_) cold = std::max(cold, slot.cold);
